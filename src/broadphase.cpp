@@ -1,0 +1,102 @@
+#include "src/broadphase.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace kiln {
+
+namespace {
+
+float down(double v) {
+  const float f = static_cast<float>(v);
+  return static_cast<double>(f) > v ? std::nextafter(f, -INFINITY) : f;
+}
+float up(double v) {
+  const float f = static_cast<float>(v);
+  return static_cast<double>(f) < v ? std::nextafter(f, INFINITY) : f;
+}
+
+double segment_distance(Vec2 p, Vec2 a, Vec2 b) {
+  const Vec2 ab = b - a;
+  const double len2 = dot(ab, ab);
+  const double s = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+  return norm(p - (a + s * ab));
+}
+
+void* as_user_data(int index) { return reinterpret_cast<void*>(static_cast<intptr_t>(index)); }
+int from_user_data(void* p) { return static_cast<int>(reinterpret_cast<intptr_t>(p)); }
+
+// Calls fn(index) for every proxy whose fat box overlaps `box` (Box2D's templated, non-virtual query).
+template <class F>
+void query(const b2DynamicTree& tree, const b2AABB& box, F& fn) {
+  struct Callback {
+    const b2DynamicTree* tree;
+    F* fn;
+    bool QueryCallback(int32 proxy_id) {
+      (*fn)(from_user_data(tree->GetUserData(proxy_id)));
+      return true;
+    }
+  } callback{&tree, &fn};
+  tree.Query(&callback, box);
+}
+
+}  // namespace
+
+b2AABB Broadphase::box(double x0, double y0, double x1, double y1) const {
+  b2AABB bb;
+  bb.lowerBound.Set(down(x0 * scale_), down(y0 * scale_));
+  bb.upperBound.Set(up(x1 * scale_), up(y1 * scale_));
+  return bb;
+}
+
+void Broadphase::particle_pairs(const double* x, const double* y, const double* r, int n,
+                                std::vector<CandidatePair>& out) {
+  // Keep the tree across rebuilds: MoveProxy re-inserts only particles that left their fat box.
+  if (static_cast<int>(particle_proxy_.size()) != n) {
+    for (int32 id : particle_proxy_) particles_.DestroyProxy(id);
+    particle_proxy_.clear();
+    for (int i = 0; i < n; ++i)
+      particle_proxy_.push_back(particles_.CreateProxy(box(x[i] - r[i], y[i] - r[i], x[i] + r[i], y[i] + r[i]),
+                                                       as_user_data(i)));
+  } else {
+    for (int i = 0; i < n; ++i)
+      particles_.MoveProxy(particle_proxy_[i], box(x[i] - r[i], y[i] - r[i], x[i] + r[i], y[i] + r[i]),
+                           b2Vec2(0, 0));
+  }
+  out.clear();
+  for (int i = 0; i < n; ++i) {
+    const size_t first = out.size();
+    const double reach = r[i] + skin_;
+    auto accept = [&](int j) {
+      if (j <= i) return;
+      const double dx = x[j] - x[i], dy = y[j] - y[i], rr = r[i] + r[j] + skin_;
+      if (dx * dx + dy * dy < rr * rr) out.push_back({i, j});
+    };
+    query(particles_, box(x[i] - reach, y[i] - reach, x[i] + reach, y[i] + reach), accept);
+    std::sort(out.begin() + first, out.end());
+  }
+}
+
+void Broadphase::wall_pairs(const double* x, const double* y, const double* r, int n, const std::vector<Vec2>& a,
+                            const std::vector<Vec2>& b, std::vector<CandidatePair>& out) {
+  // Walls may move between rebuilds: rebuild their (small) tree from the current geometry.
+  for (int32 id : segment_proxy_) segments_.DestroyProxy(id);
+  segment_proxy_.clear();
+  for (size_t s = 0; s < a.size(); ++s)
+    segment_proxy_.push_back(segments_.CreateProxy(box(std::min(a[s].x, b[s].x), std::min(a[s].y, b[s].y),
+                                                       std::max(a[s].x, b[s].x), std::max(a[s].y, b[s].y)),
+                                                   as_user_data(static_cast<int>(s))));
+  out.clear();
+  for (int i = 0; i < n; ++i) {
+    const size_t first = out.size();
+    const double reach = r[i] + skin_;
+    auto accept = [&](int s) {
+      if (segment_distance({x[i], y[i]}, a[s], b[s]) < reach) out.push_back({i, s});
+    };
+    query(segments_, box(x[i] - reach, y[i] - reach, x[i] + reach, y[i] + reach), accept);
+    std::sort(out.begin() + first, out.end());
+  }
+}
+
+}  // namespace kiln

@@ -1,0 +1,394 @@
+#include "src/dem_system.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "contact/normal_force.h"
+#include "contact/tangential_force.h"
+#include "src/wall_geometry.h"
+
+namespace kiln {
+
+double disc_mass(const Scene& scene, double r, double density) {
+  return scene.mass_model == MassModel::sphere ? 4.0 / 3.0 * M_PI * r * r * r * density
+                                               : M_PI * r * r * scene.thickness * density;
+}
+
+double disc_inertia(const Scene& scene, double m, double r) {
+  return (scene.mass_model == MassModel::sphere ? 0.4 : 0.5) * m * r * r;
+}
+
+namespace {
+
+double automatic_skin(const Scene& scene) {
+  double sum = 0;
+  for (double r : scene.radius) sum += 2 * r;
+  return scene.radius.empty() ? 1e-3 : 0.2 * sum / scene.radius.size();
+}
+
+}  // namespace
+
+DemSystem::DemSystem(const Scene& scene)
+    : scene_(scene), n_(scene.n_particles()), broadphase_(scene.skin > 0 ? scene.skin : automatic_skin(scene)) {
+  const int nm = scene.n_materials();
+  flags_.resize(nm * nm);
+  for (int a = 0; a < nm; ++a)
+    for (int b = 0; b < nm; ++b) {
+      const PairLaw& law = scene.law(a, b);
+      LawFlags& f = flags_[a * nm + b];
+      f.mu = law.friction;
+      f.mu_roll = law.rolling_friction;
+      f.hertz = law.model == NormalModel::hertz;
+      f.tension = law.tension;
+      f.tangential = law.friction > 0;
+      f.rolling = law.rolling_friction > 0;
+      f.beta = law.damping_rate > 0 ? 0 : contact::restitution_damping(law.restitution, f.hertz, f.tension);
+    }
+  // A scene that uses friction or rolling resistance anywhere carries rotation; otherwise discs
+  // cannot spin and no angles are integrated.
+  for (int i = 0; i < n_ && !rotates_; ++i) {
+    for (int b = 0; b < nm; ++b) {
+      const LawFlags& f = flags_[scene.material[i] * nm + b];
+      rotates_ = rotates_ || f.tangential || f.rolling;
+    }
+    rotates_ = rotates_ || scene.angular_velocity[i] != 0;
+  }
+  layout_.nq = (rotates_ ? 3 : 2) * n_;
+  layout_.nz = ledger_size;
+
+  radius_ = scene.radius;
+  material_ = scene.material;
+  for (int i = 0; i < n_; ++i) {
+    const double m = disc_mass(scene, radius_[i], scene.materials[material_[i]].density);
+    mass_.push_back(m);
+    inv_mass_.push_back(1 / m);
+    inertia_.push_back(disc_inertia(scene, m, radius_[i]));
+    inv_inertia_.push_back(1 / inertia_.back());
+  }
+  for (const Wall& w : scene.walls) moving_walls_ = moving_walls_ || w.motion.kind != WallMotion::Kind::fixed;
+  x_ref_.resize(n_);
+  y_ref_.resize(n_);
+  update_walls(0);
+}
+
+std::vector<double> DemSystem::initial_state() const {
+  std::vector<double> y(layout_.size(), 0.0);
+  for (int i = 0; i < n_; ++i) {
+    y[x_at() + i] = scene_.position[i].x;
+    y[y_at() + i] = scene_.position[i].y;
+    y[vx_at() + i] = scene_.velocity[i].x;
+    y[vy_at() + i] = scene_.velocity[i].y;
+    if (rotates_) y[omega_at() + i] = scene_.angular_velocity[i];
+  }
+  return y;
+}
+
+void DemSystem::wall_geometry(double t, std::vector<Vec2>& a, std::vector<Vec2>& b) const {
+  a.resize(scene_.segments.size());
+  b.resize(scene_.segments.size());
+  for (size_t s = 0; s < scene_.segments.size(); ++s) {
+    const Segment& seg = scene_.segments[s];
+    const WallMotion& m = scene_.walls[seg.wall].motion;
+    a[s] = wall_point_at(m, seg.a, t);
+    b[s] = wall_point_at(m, seg.b, t);
+  }
+}
+
+void DemSystem::update_walls(double t) {
+  if (t == seg_time_) return;
+  wall_geometry(t, seg_a_, seg_b_);
+  seg_time_ = t;
+}
+
+void DemSystem::prepare(double t, const double* y, double lookahead) {
+  if (!built_) {
+    rebuild(t, y);
+    return;
+  }
+  // Verlet-list criterion: no pair can have closed a gap of one skin since the last rebuild if
+  // every particle moved less than half a skin (and a particle plus its wall less than a skin).
+  const double* px = y + x_at();
+  const double* py = y + y_at();
+  const double* vx = y + vx_at();
+  const double* vy = y + vy_at();
+  double d2max = 0, v2max = 0;
+  for (int i = 0; i < n_; ++i) {
+    const double dx = px[i] - x_ref_[i], dy = py[i] - y_ref_[i];
+    d2max = std::max(d2max, dx * dx + dy * dy);
+    v2max = std::max(v2max, vx[i] * vx[i] + vy[i] * vy[i]);
+  }
+  // Within a multi-stage step positions may wander ahead by about lookahead * |v|: count it twice.
+  const double moved = std::sqrt(d2max) + 2 * lookahead * std::sqrt(v2max);
+  double wall_moved = 0;
+  for (size_t w = 0; w < scene_.walls.size(); ++w)
+    wall_moved = std::max(wall_moved, wall_max_displacement(scene_.walls[w].motion, scene_.segments,
+                                                            static_cast<int>(w), t_ref_, t + lookahead));
+  const double skin = broadphase_.skin();
+  if (!(2 * moved < skin && moved + wall_moved < skin)) rebuild(t, y);
+}
+
+void DemSystem::rebuild(double t, const double* y) {
+  const double* px = y + x_at();
+  const double* py = y + y_at();
+  broadphase_.particle_pairs(px, py, radius_.data(), n_, candidates_);
+  pp_.replace(candidates_);
+  set_coefficients(pp_, false);
+  update_walls(t);
+  broadphase_.wall_pairs(px, py, radius_.data(), n_, seg_a_, seg_b_, candidates_);
+  pw_.replace(candidates_);
+  set_coefficients(pw_, true);
+  std::copy_n(px, n_, x_ref_.data());
+  std::copy_n(py, n_, y_ref_.data());
+  t_ref_ = t;
+  built_ = true;
+  ++rebuilds_;
+}
+
+void DemSystem::set_coefficients(ContactList& list, bool walls) {
+  const int nm = scene_.n_materials();
+  for (int p = 0; p < list.size(); ++p) {
+    const int i = list.i[p], j = list.j[p];
+    const int mi = material_[i];
+    const int mj = walls ? scene_.walls[scene_.segments[j].wall].material : material_[j];
+    const PairLaw& law = scene_.law(mi, mj);
+    const LawFlags& f = flags_[mi * nm + mj];
+    // A wall is a flat body of infinite mass: m_eff = m_i and R* = r_i.
+    const double m_eff = walls ? mass_[i] : mass_[i] * mass_[j] / (mass_[i] + mass_[j]);
+    const double r_eff = walls ? radius_[i] : radius_[i] * radius_[j] / (radius_[i] + radius_[j]);
+    const double k = f.hertz ? 4.0 / 3.0 * law.effective_modulus * std::sqrt(r_eff) : law.stiffness;
+    const double c = law.damping_rate > 0 ? m_eff * law.damping_rate : f.beta * std::sqrt(m_eff * k);
+    list.law[p] = static_cast<uint16_t>(mi * nm + mj);
+    list.k[p] = k;
+    list.c[p] = c;
+    // Hertz pairs: k_t and c_t scale with the contact's linearised normal stiffness, 3/2 k delta^1/2,
+    // applied per evaluation (dem_system derivative).
+    list.kt[p] = law.tangential_stiffness_ratio * (f.hertz ? 1.5 * k : k);
+    list.ct[p] = law.tangential_damping_ratio * c;
+  }
+}
+
+void DemSystem::accept(double t) {
+  pp_.commit();
+  pw_.commit();
+  t_committed_ = t;
+}
+
+namespace {
+
+// Everything the force loops read, gathered once per evaluation.
+struct Fields {
+  const double *x, *y, *vx, *vy, *w;
+  double *fx, *fy, *torque;
+};
+
+// Forces of one contact with normal n (from i towards the other body), overlap > 0, relative
+// velocity `vrel` of i's surface against the other's at the contact. Returns the normal force
+// and writes the tangential force along t = perp(n) and the new elongation.
+struct ContactForce {
+  double normal = 0, tangential = 0;
+  double damping_power = 0, friction_power = 0;  // dissipated (W)
+};
+
+inline ContactForce contact_force(const contact::NormalLaw& nl, double overlap, double vn, double vt, double kt,
+                                  double ct, double mu, bool tangential, double spring, double dt_hist,
+                                  double& trial) {
+  ContactForce f;
+  f.normal = contact::normal_force(nl, overlap, vn);
+  f.damping_power = contact::normal_dissipation(nl, overlap, vn, f.normal);
+  if (tangential) {
+    const double scale = nl.hertz ? std::sqrt(overlap) : 1.0;
+    const double cscale = nl.hertz ? std::sqrt(std::sqrt(overlap)) : 1.0;
+    const auto t = contact::tangential_force({kt * scale, ct * cscale, mu}, spring, vt, dt_hist, f.normal);
+    f.tangential = t.force;
+    f.friction_power = t.dissipation;
+    trial = t.spring;
+  }
+  return f;
+}
+
+}  // namespace
+
+// A pair that is not touching has no tangential spring; an elongation it still had is released
+// (its energy counted as dissipated). Hertz springs have vanished with the overlap already.
+double DemSystem::release(ContactList& list, int p, double dt_hist) const {
+  list.trial[p] = 0;
+  const LawFlags& lf = flags_[list.law[p]];
+  if (!lf.tangential || lf.hertz || list.spring[p] == 0) return 0;
+  return contact::release_dissipation({list.kt[p], 0, 0}, list.spring[p], dt_hist);
+}
+
+void DemSystem::derivative(double t, const double* y, double* ydot) {
+  const int nq = layout_.nq;
+  std::copy_n(y + nq, nq, ydot);  // dq/dt = v
+  Fields s{y + x_at(), y + y_at(), y + vx_at(), y + vy_at(), rotates_ ? y + omega_at() : nullptr,
+           ydot + vx_at(), ydot + vy_at(), rotates_ ? ydot + omega_at() : nullptr};
+  std::fill_n(ydot + nq, nq, 0.0);
+  if (moving_walls_) update_walls(t);
+  const double dt_hist = t - t_committed_;
+  double damping = 0, friction = 0, walls_work = 0, worst = 0;
+
+  // Particle-particle contacts.
+  for (int p = 0, np = pp_.size(); p < np; ++p) {
+    const int i = pp_.i[p], j = pp_.j[p];
+    const double dx = s.x[j] - s.x[i], dy = s.y[j] - s.y[i];
+    const double rsum = radius_[i] + radius_[j];
+    const double d2 = dx * dx + dy * dy;
+    if (d2 >= rsum * rsum) {
+      friction += release(pp_, p, dt_hist);
+      continue;
+    }
+    const double d = std::sqrt(d2);
+    const double nx = dx / d, ny = dy / d;  // from i to j
+    const double overlap = rsum - d;
+    const LawFlags& lf = flags_[pp_.law[p]];
+    double rvx = s.vx[i] - s.vx[j], rvy = s.vy[i] - s.vy[j];
+    if (s.w) {  // surface velocity from spin: (w_i r_i + w_j r_j) perp(n)
+      const double spin = s.w[i] * radius_[i] + s.w[j] * radius_[j];
+      rvx -= spin * ny;
+      rvy += spin * nx;
+    }
+    const double vn = rvx * nx + rvy * ny;   // approach speed
+    const double vt = -rvx * ny + rvy * nx;  // slip along t = perp(n)
+    const ContactForce f = contact_force({pp_.k[p], pp_.c[p], lf.hertz, lf.tension}, overlap, vn, vt, pp_.kt[p],
+                                         pp_.ct[p], lf.mu, lf.tangential, pp_.spring[p], dt_hist, pp_.trial[p]);
+    const double fx = -f.normal * nx - f.tangential * ny;
+    const double fy = -f.normal * ny + f.tangential * nx;
+    s.fx[i] += fx;
+    s.fy[i] += fy;
+    s.fx[j] -= fx;
+    s.fy[j] -= fy;
+    damping += f.damping_power;
+    friction += f.friction_power;
+    if (s.torque) {
+      s.torque[i] += radius_[i] * f.tangential;
+      s.torque[j] += radius_[j] * f.tangential;
+      if (lf.rolling) {
+        const double spin = s.w[i] - s.w[j];
+        const double m = contact::rolling_torque(lf.mu_roll, radius_[i] * radius_[j] / rsum, f.normal, spin);
+        s.torque[i] += m;
+        s.torque[j] -= m;
+        friction -= m * spin;
+      }
+    }
+    worst = std::max(worst, overlap / std::min(radius_[i], radius_[j]));
+  }
+
+  // Particle-wall contacts. A wall point's velocity enters the relative velocity; the work the
+  // wall does on the particle is F . u_wall.
+  for (int p = 0, np = pw_.size(); p < np; ++p) {
+    const int i = pw_.i[p], sgi = pw_.j[p];
+    const double r = radius_[i];
+    WallHit hit;
+    if (!disc_segment_contact(scene_.segments, seg_a_, seg_b_, sgi, {s.x[i], s.y[i]}, r, hit)) {
+      friction += release(pw_, p, dt_hist);
+      continue;
+    }
+    const Vec2 n = hit.normal;
+    const double overlap = hit.overlap;
+    const Vec2 closest = hit.closest;
+    const int wall = scene_.segments[sgi].wall;
+    const Vec2 u = wall_velocity_at(scene_.walls[wall].motion, closest, t);
+    const LawFlags& lf = flags_[pw_.law[p]];
+    double rvx = s.vx[i] - u.x, rvy = s.vy[i] - u.y;
+    if (s.w) {
+      rvx -= s.w[i] * r * n.y;
+      rvy += s.w[i] * r * n.x;
+    }
+    const double vn = rvx * n.x + rvy * n.y;
+    const double vt = -rvx * n.y + rvy * n.x;
+    const ContactForce f = contact_force({pw_.k[p], pw_.c[p], lf.hertz, lf.tension}, overlap, vn, vt, pw_.kt[p],
+                                         pw_.ct[p], lf.mu, lf.tangential, pw_.spring[p], dt_hist, pw_.trial[p]);
+    const double fx = -f.normal * n.x - f.tangential * n.y;
+    const double fy = -f.normal * n.y + f.tangential * n.x;
+    s.fx[i] += fx;
+    s.fy[i] += fy;
+    damping += f.damping_power;
+    friction += f.friction_power;
+    walls_work += fx * u.x + fy * u.y;
+    if (s.torque) {
+      s.torque[i] += r * f.tangential;
+      if (lf.rolling) {
+        const WallMotion& m = scene_.walls[wall].motion;
+        const double wall_spin = m.kind == WallMotion::Kind::rotate ? m.omega : 0.0;
+        const double spin = s.w[i] - wall_spin;
+        const double mr = contact::rolling_torque(lf.mu_roll, r, f.normal, spin);
+        s.torque[i] += mr;
+        friction -= mr * spin;
+        walls_work += mr * wall_spin;
+      }
+    }
+    worst = std::max(worst, overlap / r);
+  }
+
+  const double gx = scene_.gravity.x, gy = scene_.gravity.y;
+  for (int i = 0; i < n_; ++i) {
+    s.fx[i] = s.fx[i] * inv_mass_[i] + gx;
+    s.fy[i] = s.fy[i] * inv_mass_[i] + gy;
+  }
+  if (s.torque)
+    for (int i = 0; i < n_; ++i) s.torque[i] *= inv_inertia_[i];
+  double* ledger = ydot + ledger_at();
+  ledger[ledger_damping] = damping;
+  ledger[ledger_friction] = friction;
+  ledger[ledger_walls] = walls_work;
+  max_overlap_fraction_ = worst;
+}
+
+EnergyLedger DemSystem::energy(double t, const double* y) const {
+  EnergyLedger e;
+  const double *px = y + x_at(), *py = y + y_at(), *vx = y + vx_at(), *vy = y + vy_at();
+  for (int i = 0; i < n_; ++i) {
+    e.kinetic += 0.5 * mass_[i] * (vx[i] * vx[i] + vy[i] * vy[i]);
+    if (rotates_) e.kinetic += 0.5 * inertia_[i] * y[omega_at() + i] * y[omega_at() + i];
+    e.potential -= mass_[i] * (scene_.gravity.x * px[i] + scene_.gravity.y * py[i]);
+  }
+  std::vector<Vec2> a, b;
+  wall_geometry(t, a, b);
+  double normal_elastic = 0, tangential_elastic = 0;
+  auto add = [&](const ContactList& list, int p, double overlap) {
+    const LawFlags& lf = flags_[list.law[p]];
+    normal_elastic += contact::normal_elastic_energy({list.k[p], list.c[p], lf.hertz, lf.tension}, overlap);
+    if (lf.tangential) {
+      const double kt = list.kt[p] * (lf.hertz ? std::sqrt(overlap) : 1.0);
+      tangential_elastic += contact::tangential_elastic_energy({kt, 0, 0}, list.spring[p]);
+    }
+  };
+  for (int p = 0; p < pp_.size(); ++p) {
+    const int i = pp_.i[p], j = pp_.j[p];
+    const double overlap = radius_[i] + radius_[j] - std::hypot(px[j] - px[i], py[j] - py[i]);
+    if (overlap > 0) add(pp_, p, overlap);
+  }
+  for (int p = 0; p < pw_.size(); ++p) {
+    const int i = pw_.i[p];
+    WallHit hit;
+    if (disc_segment_contact(scene_.segments, a, b, pw_.j[p], {px[i], py[i]}, radius_[i], hit))
+      add(pw_, p, hit.overlap);
+  }
+  const double* ledger = y + ledger_at();
+  e.elastic = normal_elastic + tangential_elastic;
+  e.dissipated_damping = ledger[ledger_damping];
+  e.dissipated_friction = ledger[ledger_friction];
+  e.work_by_walls = ledger[ledger_walls];
+  return e;
+}
+
+DemSystem::ContactCount DemSystem::count_contacts(double t, const double* y) const {
+  ContactCount count;
+  const double *px = y + x_at(), *py = y + y_at();
+  for (int p = 0; p < pp_.size(); ++p) {
+    const int i = pp_.i[p], j = pp_.j[p];
+    const double rs = radius_[i] + radius_[j];
+    const double dx = px[j] - px[i], dy = py[j] - py[i];
+    count.particle_particle += dx * dx + dy * dy < rs * rs;
+  }
+  std::vector<Vec2> a, b;
+  wall_geometry(t, a, b);
+  WallHit hit;
+  for (int p = 0; p < pw_.size(); ++p) {
+    const int i = pw_.i[p];
+    count.particle_wall += disc_segment_contact(scene_.segments, a, b, pw_.j[p], {px[i], py[i]}, radius_[i], hit);
+  }
+  return count;
+}
+
+}  // namespace kiln

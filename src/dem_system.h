@@ -1,0 +1,104 @@
+// The granular system as an ODE: state layout, neighbour rebuilds, and the force evaluation.
+//
+// State y = [q | v | z], structure of arrays:
+//   q = x (N), y (N) and, only when some contact has friction or rolling resistance, angle (N);
+//   v = vx, vy, omega (same layout); z = the energy ledger: energy dissipated by the normal
+//   dashpots, energy dissipated by friction (tangential dashpot, sliding, rolling resistance),
+//   work done by moving walls.
+// Only non-conservative power is integrated; elastic and kinetic energy come from the state.
+// Integrating the ledger as part of the state makes it as accurate as the trajectory, whichever
+// integrator runs, and closes the energy balance (see energy.h).
+//
+// One derivative evaluation: positions and velocities in, accelerations and ledger rates out.
+// Contact history is written to a trial array and kept only when the step is accepted.
+#pragma once
+#include <vector>
+
+#include "integrators/integrator.h"
+#include "src/broadphase.h"
+#include "src/contact_list.h"
+#include "src/energy.h"
+#include "src/scene.h"
+
+namespace kiln {
+
+enum Ledger { ledger_damping = 0, ledger_friction = 1, ledger_walls = 2, ledger_size = 3 };
+
+class DemSystem final : public OdeSystem {
+ public:
+  explicit DemSystem(const Scene& scene);
+
+  StateLayout layout() const override { return layout_; }
+  void prepare(double t, const double* y, double lookahead) override;
+  void derivative(double t, const double* y, double* ydot) override;
+  void accept(double t) override;
+
+  std::vector<double> initial_state() const;
+  int particles() const { return n_; }
+  bool rotates() const { return rotates_; }
+  // Offsets of each field in y (angle and omega are -1 when the scene does not rotate).
+  int x_at() const { return 0; }
+  int y_at() const { return n_; }
+  int angle_at() const { return rotates_ ? 2 * n_ : -1; }
+  int vx_at() const { return layout_.nq; }
+  int vy_at() const { return layout_.nq + n_; }
+  int omega_at() const { return rotates_ ? layout_.nq + 2 * n_ : -1; }
+  int ledger_at() const { return 2 * layout_.nq; }
+
+  double mass(int i) const { return mass_[i]; }
+  double inertia(int i) const { return inertia_[i]; }
+  double radius(int i) const { return radius_[i]; }
+
+  EnergyLedger energy(double t, const double* y) const;
+  struct ContactCount {
+    long particle_particle = 0, particle_wall = 0;
+  };
+  ContactCount count_contacts(double t, const double* y) const;
+  // Largest overlap / smaller radius seen at the latest evaluation.
+  double max_overlap_fraction() const { return max_overlap_fraction_; }
+  long rebuilds() const { return rebuilds_; }
+  double skin() const { return broadphase_.skin(); }
+  const ContactList& particle_contacts() const { return pp_; }
+  const ContactList& wall_contacts() const { return pw_; }
+  // Wall segment endpoints at time t.
+  void wall_geometry(double t, std::vector<Vec2>& a, std::vector<Vec2>& b) const;
+  const Scene& scene() const { return scene_; }
+
+ private:
+  struct LawFlags {
+    double mu = 0, mu_roll = 0, beta = 0;
+    bool hertz = false, tension = true, tangential = false, rolling = false;
+  };
+  void rebuild(double t, const double* y);
+  void set_coefficients(ContactList& list, bool walls);
+  void update_walls(double t);
+  double release(ContactList& list, int p, double dt_hist) const;
+
+  const Scene& scene_;
+  int n_ = 0;
+  bool rotates_ = false;
+  bool moving_walls_ = false;
+  StateLayout layout_;
+  std::vector<double> radius_, mass_, inv_mass_, inertia_, inv_inertia_;
+  std::vector<int> material_;
+  std::vector<LawFlags> flags_;  // per material pair
+
+  Broadphase broadphase_;
+  std::vector<CandidatePair> candidates_;
+  ContactList pp_, pw_;
+  std::vector<double> x_ref_, y_ref_;  // positions at the last rebuild
+  double t_ref_ = 0;
+  bool built_ = false;
+  long rebuilds_ = 0;
+  double t_committed_ = 0;
+  double max_overlap_fraction_ = 0;
+
+  std::vector<Vec2> seg_a_, seg_b_;  // wall geometry at the latest time asked for
+  double seg_time_ = -1;
+};
+
+// Mass and moment of inertia of a disc under the scene's mass model.
+double disc_mass(const Scene& scene, double radius, double density);
+double disc_inertia(const Scene& scene, double mass, double radius);
+
+}  // namespace kiln

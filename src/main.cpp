@@ -1,0 +1,136 @@
+// kiln: the command-line program. Each subcommand is a few lines over the library.
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+
+#include "integrators/integrator.h"
+#include "src/error.h"
+#include "src/scene_yaml.h"
+#include "src/simulation.h"
+#include "src/stability.h"
+
+namespace {
+
+struct SceneArgs {
+  std::string path;
+  std::string integrator;
+  double dt = 0, t_end = 0;
+  std::vector<std::string> sets;
+};
+
+// Command-line options become --set overrides, so they pass through the same checks as the file.
+kiln::Scene load(const SceneArgs& a) {
+  std::vector<std::string> sets = a.sets;
+  if (!a.integrator.empty()) sets.push_back("integrator=" + a.integrator);
+  if (a.dt > 0) sets.push_back("dt=" + std::to_string(a.dt));
+  if (a.t_end > 0) sets.push_back("t_end=" + std::to_string(a.t_end));
+  kiln::Scene scene = kiln::load_scene(a.path, sets);
+  kiln::make_integrator(scene.integrator);  // an unknown name fails before anything runs
+  return scene;
+}
+
+void add_scene_options(CLI::App* cmd, SceneArgs& a) {
+  cmd->add_option("scene", a.path, "scene file (YAML)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--integrator", a.integrator, "integrator name (see 'kiln integrators')");
+  cmd->add_option("--dt", a.dt, "time step (s)")->check(CLI::PositiveNumber);
+  cmd->add_option("--t-end", a.t_end, "end time (s)")->check(CLI::PositiveNumber);
+  cmd->add_option("--set", a.sets, "override a scene value by dotted path: KEY=VALUE")->take_all();
+}
+
+int check(const SceneArgs& a) {
+  const kiln::Scene scene = load(a);
+  const kiln::StabilityEstimate est = kiln::estimate_stability(scene);
+  std::printf("scene %s: %d particles, %zu wall segments, integrator %s\n", scene.name.c_str(), scene.n_particles(),
+              scene.segments.size(), scene.integrator.c_str());
+  std::printf("  shortest contact duration  %.4g s (%s)\n", est.contact_duration, est.shortest_pair.c_str());
+  std::printf("  stability limit of dt      %.4g s (central difference on the stiffest contact)\n", est.dt_limit);
+  if (std::isfinite(est.rayleigh))
+    std::printf("  Rayleigh time step         %.4g s (smallest particle)\n", est.rayleigh);
+  else
+    std::printf("  Rayleigh time step         n/a (no youngs_modulus given)\n");
+  std::printf("  recommended dt             %.4g s (contact duration / 50)\n", est.recommended_dt);
+  std::printf("  chosen dt                  %.4g s = 1/%.1f of the contact duration", scene.dt,
+              est.contact_duration / scene.dt);
+  if (std::isfinite(est.rayleigh)) std::printf(", %.1f %% of the Rayleigh step", 100 * scene.dt / est.rayleigh);
+  std::printf("\n");
+  const kiln::DtVerdict verdict = kiln::judge_dt(est, scene.dt);
+  for (const std::string& w : verdict.warnings)
+    std::fprintf(stderr, "%s: %s\n", verdict.unstable ? "error" : "warning", w.c_str());
+  return verdict.unstable ? 1 : 0;
+}
+
+int run(const SceneArgs& a, std::string out, bool quiet) {
+  const kiln::Scene scene = load(a);
+  const kiln::DtVerdict verdict = kiln::judge_dt(kiln::estimate_stability(scene), scene.dt);
+  for (const std::string& w : verdict.warnings)
+    std::fprintf(stderr, "%s: %s\n", verdict.unstable ? "error" : "warning", w.c_str());
+  if (verdict.unstable) return 1;
+  if (out.empty()) out = "out/" + scene.name;
+  const nlohmann::json s = kiln::run_scene(scene, {out, quiet});
+  if (!quiet)
+    std::printf("%s: %ld steps of %g s with %s, %.3g s wall (%.3g particle-steps/s); energy balance error %.3g J; "
+                "outputs in %s/\n",
+                scene.name.c_str(), s["steps"].get<long>(), scene.dt, scene.integrator.c_str(),
+                s["wall_seconds"].get<double>(), s["particle_steps_per_second"].get<double>(),
+                s["energy"]["balance_error"].get<double>(), out.c_str());
+  return 0;
+}
+
+int list_cases() {
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(KILN_CASES_DIR))
+    if (entry.path().extension() == ".yaml") files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  for (const auto& f : files) {
+    const kiln::Scene scene = kiln::load_scene(f.string());
+    std::printf("%-30s %s\n", f.filename().c_str(), scene.description.c_str());
+  }
+  std::printf("(in %s)\n", KILN_CASES_DIR);
+  return 0;
+}
+
+int list_integrators() {
+  std::printf("%-28s %5s %13s  %s\n", "name", "order", "with dashpot", "scheme");
+  for (const auto& info : kiln::integrator_catalogue())
+    std::printf("%-28s %5d %13d  %s\n", info.name.c_str(), info.order, info.order_with_dashpot, info.summary.c_str());
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"kiln: 2D thermo-mechanical discrete element engine with swappable integrators"};
+  app.require_subcommand(1);
+  SceneArgs run_args, check_args;
+  std::string out;
+  bool quiet = false;
+  CLI::App* run_cmd = app.add_subcommand("run", "run a scene and write result.h5, result.xdmf, summary.json, picture.png");
+  add_scene_options(run_cmd, run_args);
+  run_cmd->add_option("--out", out, "output directory (default out/<scene name>)");
+  run_cmd->add_flag("--quiet", quiet, "no progress or summary line");
+  CLI::App* check_cmd = app.add_subcommand("check", "validate a scene and print its time-step estimates");
+  add_scene_options(check_cmd, check_args);
+  CLI::App* cases_cmd = app.add_subcommand("cases", "list the shipped cases");
+  CLI::App* integrators_cmd = app.add_subcommand("integrators", "list the integrators with their orders");
+  CLI11_PARSE(app, argc, argv);
+  try {
+    if (*run_cmd) return run(run_args, out, quiet);
+    if (*check_cmd) return check(check_args);
+    if (*cases_cmd) return list_cases();
+    if (*integrators_cmd) return list_integrators();
+  } catch (const kiln::InputError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 2;
+  } catch (const kiln::InstabilityError& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error: %s\n", e.what());
+    return 1;
+  }
+  return 0;
+}

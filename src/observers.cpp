@@ -1,0 +1,212 @@
+#include "src/observers.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+
+#include "src/dem_system.h"
+#include "src/wall_geometry.h"
+
+namespace kiln {
+
+namespace {
+
+// Bounces of particle 0 (cases T1, T2): contact durations from the gap to the nearest wall,
+// linearly interpolated between steps (O(dt^2)), and apex heights along -g. After a release the
+// flight is ballistic, so the apex follows from the first free sample: h = s + u^2 / (2 |g|),
+// with s the height and u the upward speed; no sampling error from the step size.
+class BounceObserver final : public Observer {
+ public:
+  explicit BounceObserver(const DemSystem& sys) : sys_(sys) {
+    const Vec2 g = sys.scene().gravity;
+    g_ = norm(g);
+    up_ = g_ > 0 ? (-1 / g_) * g : Vec2{0, 1};
+    release_height_ = dot(sys.scene().position[0], up_);
+  }
+  void sample(double t, const double* y) override {
+    const Vec2 c{y[sys_.x_at()], y[sys_.y_at()]};
+    const Vec2 v{y[sys_.vx_at()], y[sys_.vy_at()]};
+    sys_.wall_geometry(t, a_, b_);
+    double gap = INFINITY;
+    for (size_t s = 0; s < a_.size(); ++s) {
+      const Vec2 ab = b_[s] - a_[s];
+      const double along = std::clamp(dot(c - a_[s], ab) / dot(ab, ab), 0.0, 1.0);
+      gap = std::min(gap, norm(a_[s] + along * ab - c) - sys_.radius(0));
+    }
+    if (have_last_) {
+      if (last_gap_ > 0 && gap <= 0) onset_ = crossing(t, gap);
+      if (last_gap_ <= 0 && gap > 0) {
+        durations_.push_back(crossing(t, gap) - onset_);
+        awaiting_apex_ = true;
+      } else if (awaiting_apex_ && gap > 0) {
+        const double u = dot(v, up_);
+        heights_.push_back(dot(c, up_) + (g_ > 0 ? u * u / (2 * g_) : 0));
+        awaiting_apex_ = false;
+      }
+    }
+    last_gap_ = gap;
+    last_t_ = t;
+    have_last_ = true;
+  }
+  void report(double, const double*, nlohmann::json& out) override {
+    out["release_height"] = release_height_;
+    out["bounce_heights"] = heights_;
+    out["contact_durations"] = durations_;
+  }
+
+ private:
+  double crossing(double t, double gap) const { return last_t_ + (t - last_t_) * last_gap_ / (last_gap_ - gap); }
+  const DemSystem& sys_;
+  std::vector<Vec2> a_, b_;
+  Vec2 up_;
+  double g_ = 0, release_height_ = 0;
+  bool have_last_ = false, awaiting_apex_ = false;
+  double last_gap_ = 0, last_t_ = 0, onset_ = 0;
+  std::vector<double> heights_, durations_;
+};
+
+// Rolling or sliding of particle 0 along x (case C1, gravity tilted against a flat floor):
+// least-squares slope of vx(t) over the second half of the run, and the slip ratio
+// 1 + omega r / vx at the end (0 when rolling without slip, 1 when sliding without spin).
+class InclineObserver final : public Observer {
+ public:
+  explicit InclineObserver(const DemSystem& sys) : sys_(sys), from_(sys.scene().t_end / 2) {}
+  void sample(double t, const double* y) override {
+    if (t < from_) return;
+    const double v = y[sys_.vx_at()];
+    n_ += 1;
+    st_ += t;
+    sv_ += v;
+    stt_ += t * t;
+    stv_ += t * v;
+  }
+  void report(double, const double* y, nlohmann::json& out) override {
+    const double slope = (n_ * stv_ - st_ * sv_) / (n_ * stt_ - st_ * st_);
+    const double vx = y[sys_.vx_at()];
+    const double w = sys_.rotates() ? y[sys_.omega_at()] : 0.0;
+    out["incline_acceleration"] = slope;
+    out["slip_ratio"] = 1 + w * sys_.radius(0) / vx;
+  }
+
+ private:
+  const DemSystem& sys_;
+  double from_;
+  double n_ = 0, st_ = 0, sv_ = 0, stt_ = 0, stv_ = 0;
+};
+
+class HeapObserver final : public Observer {
+ public:
+  explicit HeapObserver(const DemSystem& sys) : sys_(sys) {}
+  void sample(double, const double*) override {}
+  void report(double, const double* y, nlohmann::json& out) override {
+    const int n = sys_.particles();
+    std::vector<double> x(y + sys_.x_at(), y + sys_.x_at() + n), h(y + sys_.y_at(), y + sys_.y_at() + n), r(n);
+    for (int i = 0; i < n; ++i) r[i] = sys_.radius(i);
+    const HeapShape shape = measure_heap(x, h, r);
+    auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
+    out["heap_angle_deg"] = number(shape.angle_deg);
+    out["heap_angle_left_deg"] = number(shape.angle_left_deg);
+    out["heap_angle_right_deg"] = number(shape.angle_right_deg);
+    out["packing_fraction"] = number(shape.packing_fraction);
+  }
+
+ private:
+  const DemSystem& sys_;
+};
+
+double fitted_slope(const std::vector<double>& xs, const std::vector<double>& ys) {
+  const double n = static_cast<double>(xs.size());
+  if (n < 3) return NAN;
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (size_t k = 0; k < xs.size(); ++k) {
+    sx += xs[k];
+    sy += ys[k];
+    sxx += xs[k] * xs[k];
+    sxy += xs[k] * ys[k];
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+}  // namespace
+
+HeapShape measure_heap(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& r) {
+  HeapShape shape;
+  const size_t n = x.size();
+  double rmean = 0, xmin = INFINITY, xmax = -INFINITY, floor = INFINITY;
+  for (size_t i = 0; i < n; ++i) {
+    rmean += r[i] / n;
+    xmin = std::min(xmin, x[i] - r[i]);
+    xmax = std::max(xmax, x[i] + r[i]);
+    floor = std::min(floor, y[i] - r[i]);
+  }
+  // Surface profile: the highest disc top in columns one mean diameter wide.
+  const double width = 2 * rmean;
+  const int bins = std::max(1, static_cast<int>(std::ceil((xmax - xmin) / width)));
+  std::vector<double> top(bins, floor);
+  for (size_t i = 0; i < n; ++i) {
+    const int b = std::min(bins - 1, static_cast<int>((x[i] - xmin) / width));
+    top[b] = std::max(top[b], y[i] + r[i]);
+  }
+  const int peak = static_cast<int>(std::max_element(top.begin(), top.end()) - top.begin());
+  const double height = top[peak] - floor;
+  // Slopes: columns whose surface lies between 20 % and 80 % of the heap height on each side
+  // (away from the rounded summit and the scattered foot).
+  std::vector<double> lx, ly, rx, ry;
+  for (int b = 0; b < bins; ++b) {
+    const double rel = (top[b] - floor) / height;
+    if (rel < 0.2 || rel > 0.8) continue;
+    (b < peak ? lx : rx).push_back(xmin + (b + 0.5) * width);
+    (b < peak ? ly : ry).push_back(top[b]);
+  }
+  shape.angle_left_deg = std::atan(std::abs(fitted_slope(lx, ly))) * 180 / M_PI;
+  shape.angle_right_deg = std::atan(std::abs(fitted_slope(rx, ry))) * 180 / M_PI;
+  shape.angle_deg = 0.5 * (shape.angle_left_deg + shape.angle_right_deg);
+
+  // Packing fraction: share of a regular grid of sample points covered by discs, in a window
+  // centred under the summit, from two diameters above the floor up to half the height, and as
+  // wide as the heap is at half its height, halved.
+  int left = peak, right = peak;
+  while (left > 0 && top[left - 1] - floor > 0.5 * height) --left;
+  while (right < bins - 1 && top[right + 1] - floor > 0.5 * height) ++right;
+  const double cx = xmin + (peak + 0.5) * width;
+  const double half_w = 0.25 * (right - left + 1) * width;
+  double rmax = 0;
+  for (double ri : r) rmax = std::max(rmax, ri);
+  const double y0 = floor + 4 * rmax, y1 = floor + 0.5 * height;
+  if (y1 <= y0 || half_w <= 2 * rmax) return shape;
+  std::map<std::pair<long, long>, std::vector<size_t>> cells;
+  const double cell = 2 * rmax;
+  for (size_t i = 0; i < n; ++i) cells[{std::lround(std::floor(x[i] / cell)), std::lround(std::floor(y[i] / cell))}].push_back(i);
+  const int samples = 200;
+  long covered = 0;
+  for (int a = 0; a < samples; ++a)
+    for (int b = 0; b < samples; ++b) {
+      const double px = cx - half_w + 2 * half_w * (a + 0.5) / samples;
+      const double py = y0 + (y1 - y0) * (b + 0.5) / samples;
+      const long gx = std::lround(std::floor(px / cell)), gy = std::lround(std::floor(py / cell));
+      bool inside = false;
+      for (long dx = -1; dx <= 1 && !inside; ++dx)
+        for (long dy = -1; dy <= 1 && !inside; ++dy) {
+          const auto it = cells.find({gx + dx, gy + dy});
+          if (it == cells.end()) continue;
+          for (size_t i : it->second)
+            if ((px - x[i]) * (px - x[i]) + (py - y[i]) * (py - y[i]) < r[i] * r[i]) inside = true;
+        }
+      covered += inside;
+    }
+  shape.packing_fraction = static_cast<double>(covered) / (samples * samples);
+  return shape;
+}
+
+const std::vector<std::string>& observer_names() {
+  static const std::vector<std::string> names = {"bounce_heights", "heap", "incline_motion"};
+  return names;
+}
+
+std::unique_ptr<Observer> make_observer(const std::string& name, const DemSystem& system) {
+  if (name == "bounce_heights") return std::make_unique<BounceObserver>(system);
+  if (name == "heap") return std::make_unique<HeapObserver>(system);
+  return std::make_unique<InclineObserver>(system);
+}
+
+}  // namespace kiln

@@ -1,0 +1,15 @@
+// `--set KEY=VALUE`: replace one value of a loaded scene by its dotted path before it is checked.
+#pragma once
+#include <yaml-cpp/yaml.h>
+
+#include <string>
+#include <vector>
+
+namespace kiln {
+
+// Applies each "dotted.path=value" to `root`. The value is read as YAML, so numbers, words and
+// [x, y] lists all work. A path through a key that does not exist fails with the nearest valid
+// keys; the last key may be new (the scene checker then decides whether it is a valid key).
+void apply_overrides(YAML::Node& root, const std::vector<std::string>& assignments);
+
+}  // namespace kiln

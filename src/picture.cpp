@@ -1,0 +1,116 @@
+#include <cairo.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include "src/outputs.h"
+
+namespace kiln {
+
+namespace {
+
+// Viridis, sampled at nine points and interpolated linearly.
+std::array<double, 3> viridis(double s) {
+  static const double stops[9][3] = {{0.267, 0.005, 0.329}, {0.283, 0.141, 0.458}, {0.254, 0.265, 0.530},
+                                     {0.207, 0.372, 0.553}, {0.164, 0.471, 0.558}, {0.128, 0.567, 0.551},
+                                     {0.135, 0.659, 0.518}, {0.478, 0.821, 0.318}, {0.993, 0.906, 0.144}};
+  s = std::clamp(std::isfinite(s) ? s : 0.0, 0.0, 1.0) * 8;
+  const int k = std::min(7, static_cast<int>(s));
+  const double f = s - k;
+  return {stops[k][0] + f * (stops[k + 1][0] - stops[k][0]), stops[k][1] + f * (stops[k + 1][1] - stops[k][1]),
+          stops[k][2] + f * (stops[k + 1][2] - stops[k][2])};
+}
+
+}  // namespace
+
+void write_picture(const std::string& path, const PictureInput& in) {
+  double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
+  auto grow = [&](Vec2 p, double r) {
+    x0 = std::min(x0, p.x - r);
+    y0 = std::min(y0, p.y - r);
+    x1 = std::max(x1, p.x + r);
+    y1 = std::max(y1, p.y + r);
+  };
+  for (size_t i = 0; i < in.centre.size(); ++i) grow(in.centre[i], in.radius[i]);
+  for (size_t s = 0; s < in.wall_a.size(); ++s) {
+    grow(in.wall_a[s], 0);
+    grow(in.wall_b[s], 0);
+  }
+  const double margin = 0.03 * std::max(x1 - x0, y1 - y0);
+  x0 -= margin;
+  y0 -= margin;
+  x1 += margin;
+  y1 += margin;
+  const int plot_w = 900;
+  const double scale = plot_w / (x1 - x0);
+  const int plot_h = std::clamp(static_cast<int>((y1 - y0) * scale), 100, 2400);
+  const int bar_w = 120, title_h = 36;
+  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, plot_w + bar_w, plot_h + title_h);
+  cairo_t* cr = cairo_create(surface);
+  cairo_set_source_rgb(cr, 1, 1, 1);
+  cairo_paint(cr);
+
+  double vmin = INFINITY, vmax = -INFINITY;
+  for (double v : in.value)
+    if (std::isfinite(v)) {
+      vmin = std::min(vmin, v);
+      vmax = std::max(vmax, v);
+    }
+  if (!(vmax > vmin)) {
+    vmin = std::isfinite(vmin) ? vmin : 0;
+    vmax = vmin + 1;
+  }
+  auto sx = [&](double x) { return (x - x0) * scale; };
+  auto sy = [&](double y) { return title_h + (y1 - y) * scale; };
+
+  for (size_t i = 0; i < in.centre.size(); ++i) {
+    const auto c = viridis((in.value[i] - vmin) / (vmax - vmin));
+    cairo_set_source_rgb(cr, c[0], c[1], c[2]);
+    cairo_arc(cr, sx(in.centre[i].x), sy(in.centre[i].y), std::max(0.5, in.radius[i] * scale), 0, 2 * M_PI);
+    cairo_fill(cr);
+  }
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  cairo_set_line_width(cr, 2);
+  for (size_t s = 0; s < in.wall_a.size(); ++s) {
+    cairo_move_to(cr, sx(in.wall_a[s].x), sy(in.wall_a[s].y));
+    cairo_line_to(cr, sx(in.wall_b[s].x), sy(in.wall_b[s].y));
+  }
+  cairo_stroke(cr);
+
+  // Colour bar with its range and label.
+  const double bx = plot_w + 20, by = title_h + 20, bh = std::max(60, plot_h - 60);
+  for (int k = 0; k < static_cast<int>(bh); ++k) {
+    const auto c = viridis(1 - k / bh);
+    cairo_set_source_rgb(cr, c[0], c[1], c[2]);
+    cairo_rectangle(cr, bx, by + k, 20, 1);
+    cairo_fill(cr);
+  }
+  cairo_set_source_rgb(cr, 0, 0, 0);
+  cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, 12);
+  char label[64];
+  std::snprintf(label, sizeof label, "%.3g", vmax);
+  cairo_move_to(cr, bx + 24, by + 10);
+  cairo_show_text(cr, label);
+  std::snprintf(label, sizeof label, "%.3g", vmin);
+  cairo_move_to(cr, bx + 24, by + bh);
+  cairo_show_text(cr, label);
+  cairo_move_to(cr, bx - 10, by + bh + 18);
+  cairo_show_text(cr, in.value_label.c_str());
+  cairo_set_font_size(cr, 16);
+  cairo_move_to(cr, 10, 24);
+  cairo_show_text(cr, in.title.c_str());
+
+  cairo_destroy(cr);
+  const std::string tmp = path + ".tmp";
+  const cairo_status_t status = cairo_surface_write_to_png(surface, tmp.c_str());
+  cairo_surface_destroy(surface);
+  if (status != CAIRO_STATUS_SUCCESS) throw std::runtime_error("cannot write " + tmp);
+  std::filesystem::rename(tmp, path);
+}
+
+}  // namespace kiln

@@ -1,0 +1,22 @@
+// Progress of a long run on a terminal: one line rewritten at most twice a second, only when
+// standard error is a terminal and --quiet was not given.
+#pragma once
+#include <chrono>
+#include <string>
+
+namespace kiln {
+
+class Progress {
+ public:
+  Progress(std::string label, bool quiet);
+  void update(double t, double t_end);
+  void finish();
+
+ private:
+  std::string label_;
+  bool enabled_;
+  bool shown_ = false;
+  std::chrono::steady_clock::time_point start_, last_;
+};
+
+}  // namespace kiln

@@ -1,0 +1,97 @@
+// The scene: everything a run needs, fully expanded and validated (particle sets already filled,
+// walls already flattened to segments). Built by scene_yaml.cpp; read by the DEM system and outputs.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "src/vec2.h"
+
+namespace kiln {
+
+enum class MassModel { sphere, cylinder };
+enum class NormalModel { linear, hertz };
+
+struct Material {
+  std::string name;
+  double density = 0;          // kg/m^3; 0 for wall-only materials
+  double youngs_modulus = 0;   // Pa; needed by Hertz contacts and the Rayleigh estimate
+  double poisson_ratio = 0.3;
+  double stiffness = 0;        // N/m, linear normal spring
+  double restitution = 1;      // normal coefficient of restitution in (0, 1]
+  double friction = 0;         // Coulomb coefficient
+  double rolling_friction = 0; // constant rolling resistance coefficient
+};
+
+// Contact law parameters for one unordered pair of materials.
+struct PairLaw {
+  NormalModel model = NormalModel::linear;
+  double stiffness = 0;          // linear: k (N/m)
+  double effective_modulus = 0;  // Hertz: E* with 1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2
+  double restitution = 1;        // used unless damping_rate > 0
+  double damping_rate = 0;       // gamma_n (1/s): linear dashpot c = m_eff gamma_n
+  bool tension = true;           // false: the normal force is clamped at zero (no attraction)
+  double friction = 0;
+  double tangential_stiffness_ratio = 2.0 / 7.0;  // k_t / k_n
+  double tangential_damping_ratio = 0.5;          // c_t / c_n
+  double rolling_friction = 0;
+};
+
+struct WallMotion {
+  enum class Kind { fixed, translate, rotate } kind = Kind::fixed;
+  Vec2 velocity;        // translate: m/s
+  double distance = 0;  // translate: the wall stops after travelling this far (m)
+  Vec2 centre;          // rotate: centre of rotation
+  double omega = 0;     // rotate: rad/s, counter-clockwise positive
+};
+
+// One straight wall piece. A particle touching a shared vertex is handled by exactly one of the
+// two segments meeting there (see dem_system.cpp, wall contacts).
+struct Segment {
+  Vec2 a, b;              // endpoints at t = 0
+  int wall = 0;           // index of the wall it came from (motion, material)
+  int prev = -1;          // segment whose end b is this segment's a (polyline neighbour), or -1
+  bool next_shared = false;  // this segment's b is the next segment's a
+};
+
+struct Wall {
+  std::string name;
+  int material = 0;
+  WallMotion motion;
+};
+
+
+struct Scene {
+  std::string name;
+  std::string file;        // scene file path, for messages and attributes
+  std::string description;
+  MassModel mass_model = MassModel::sphere;
+  double thickness = 0;    // cylinder mass model
+  Vec2 gravity{0, -9.81};
+
+  std::vector<Material> materials;
+  int n_materials() const { return static_cast<int>(materials.size()); }
+  std::vector<PairLaw> laws;  // n_materials^2, symmetric
+  const PairLaw& law(int a, int b) const { return laws[a * n_materials() + b]; }
+
+  // Particles (structure of arrays).
+  std::vector<Vec2> position, velocity;
+  std::vector<double> radius, angular_velocity;
+  std::vector<int> material;
+  int n_particles() const { return static_cast<int>(radius.size()); }
+
+  std::vector<Wall> walls;
+  std::vector<Segment> segments;
+
+  // Integration and output.
+  std::string integrator = "velocity-verlet";
+  double dt = 0;
+  double t_end = 0;
+  double output_interval = 0;
+  double skin = 0;                    // neighbour skin (m); 0 = automatic
+  double max_overlap_fraction = 0.5;  // instability check: overlap / smaller radius
+  double stop_kinetic_energy = 0;     // stop early when kinetic energy falls below (J); 0 = never
+  double stop_not_before = 0;         // ... but not before this time
+  std::vector<std::string> report;    // case quantities to compute (observers.cpp)
+};
+
+}  // namespace kiln

@@ -1,0 +1,19 @@
+// One run of a scene: integrate, check stability, sample case quantities, write the outputs.
+#pragma once
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "src/scene.h"
+
+namespace kiln {
+
+struct RunOptions {
+  std::string out_dir;     // empty: write no files (tests and studies)
+  bool quiet = false;
+};
+
+// Runs the scene to its end (or its stop condition) and returns the summary (also written to
+// out_dir/summary.json). Throws InstabilityError when a check fails, leaving no output behind.
+nlohmann::json run_scene(const Scene& scene, const RunOptions& options);
+
+}  // namespace kiln

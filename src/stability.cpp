@@ -1,0 +1,123 @@
+#include "src/stability.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "contact/normal_force.h"
+#include "src/dem_system.h"
+
+namespace kiln {
+
+namespace {
+
+// Highest speed an impact can have: the fastest initial particle, plus a free fall over the
+// scene's whole height along g, plus the fastest wall point.
+double impact_speed(const Scene& scene) {
+  const double g = norm(scene.gravity);
+  const Vec2 down = g > 0 ? (1 / g) * scene.gravity : Vec2{0, -1};
+  double lo = INFINITY, hi = -INFINITY, v0 = 0;
+  for (int i = 0; i < scene.n_particles(); ++i) {
+    lo = std::min(lo, dot(scene.position[i], down));
+    hi = std::max(hi, dot(scene.position[i], down));
+    v0 = std::max(v0, norm(scene.velocity[i]));
+  }
+  double wall_speed = 0;
+  for (const Segment& s : scene.segments) {
+    lo = std::min({lo, dot(s.a, down), dot(s.b, down)});
+    hi = std::max({hi, dot(s.a, down), dot(s.b, down)});
+    const WallMotion& m = scene.walls[s.wall].motion;
+    if (m.kind == WallMotion::Kind::translate) wall_speed = std::max(wall_speed, norm(m.velocity));
+    if (m.kind == WallMotion::Kind::rotate)
+      wall_speed = std::max({wall_speed, std::abs(m.omega) * norm(s.a - m.centre), std::abs(m.omega) * norm(s.b - m.centre)});
+  }
+  return v0 + std::sqrt(2 * g * std::max(0.0, hi - lo)) + wall_speed;
+}
+
+}  // namespace
+
+StabilityEstimate estimate_stability(const Scene& scene) {
+  StabilityEstimate est;
+  est.impact_speed = std::max(impact_speed(scene), 1e-3);
+  const int nm = scene.n_materials();
+  // The smallest particle of each material gives the lightest pair.
+  std::vector<double> rmin(nm, INFINITY);
+  std::vector<int> count(nm, 0);
+  for (int i = 0; i < scene.n_particles(); ++i) {
+    rmin[scene.material[i]] = std::min(rmin[scene.material[i]], scene.radius[i]);
+    ++count[scene.material[i]];
+  }
+  auto consider = [&](int a, int b, double m_eff, double r_eff, const std::string& label) {
+    const PairLaw& law = scene.law(a, b);
+    const bool hertz = law.model == NormalModel::hertz;
+    double duration, omega;
+    if (hertz) {
+      const double k = 4.0 / 3.0 * law.effective_modulus * std::sqrt(r_eff);
+      duration = contact::hertz_contact_duration(k, m_eff, est.impact_speed);
+      const double max_overlap = std::pow(1.25 * m_eff * est.impact_speed * est.impact_speed / k, 0.4);
+      omega = std::sqrt(1.5 * k * std::sqrt(max_overlap) / m_eff);
+    } else {
+      const double beta = law.damping_rate > 0 ? law.damping_rate * std::sqrt(m_eff / law.stiffness)
+                                               : contact::restitution_damping(law.restitution, false, law.tension);
+      const double c = beta * std::sqrt(m_eff * law.stiffness);
+      duration = contact::linear_contact_duration(law.stiffness, c, m_eff);
+      omega = std::sqrt(law.stiffness / m_eff);
+      // Central-difference limit of a damped oscillator: 2 (sqrt(1 + zeta^2) - zeta) / omega.
+      const double zeta = beta / 2;
+      omega /= std::sqrt(1 + zeta * zeta) - zeta;
+    }
+    if (duration < est.contact_duration) {
+      est.contact_duration = duration;
+      est.shortest_pair = label;
+    }
+    est.dt_limit = std::min(est.dt_limit, 2 / omega);
+  };
+  for (int a = 0; a < nm; ++a) {
+    if (!count[a]) continue;
+    const Material& ma = scene.materials[a];
+    const double mass_a = disc_mass(scene, rmin[a], ma.density);
+    for (int b = a; b < nm; ++b) {
+      if (!count[b] || (a == b && count[a] < 2)) continue;
+      const double mass_b = disc_mass(scene, rmin[b], scene.materials[b].density);
+      consider(a, b, mass_a * mass_b / (mass_a + mass_b), rmin[a] * rmin[b] / (rmin[a] + rmin[b]),
+               ma.name + "-" + scene.materials[b].name);
+    }
+    for (const Wall& w : scene.walls) consider(a, w.material, mass_a, rmin[a], ma.name + "-wall(" + w.name + ")");
+    if (ma.youngs_modulus > 0) {
+      const double shear = ma.youngs_modulus / (2 * (1 + ma.poisson_ratio));
+      est.rayleigh = std::min(est.rayleigh, M_PI * rmin[a] * std::sqrt(ma.density / shear) /
+                                                (0.1631 * ma.poisson_ratio + 0.8766));
+    }
+  }
+  est.recommended_dt = est.contact_duration / 50;
+  return est;
+}
+
+DtVerdict judge_dt(const StabilityEstimate& est, double dt) {
+  DtVerdict v;
+  std::ostringstream s;
+  if (dt >= est.dt_limit) {
+    s << "dt = " << dt << " s is beyond the stability limit " << est.dt_limit
+      << " s of the stiffest contact: the run will blow up";
+    v.unstable = true;
+    v.warnings.push_back(s.str());
+    return v;
+  }
+  const double per_contact = est.contact_duration / dt;
+  if (per_contact < 20) {
+    s << "only " << per_contact << " steps per contact (" << est.shortest_pair
+      << "): expect large errors; 50 or more is usual (dt <= " << est.recommended_dt << " s)";
+    v.warnings.push_back(s.str());
+  } else if (per_contact > 20000) {
+    s << per_contact << " steps per contact: dt could be much larger (" << est.recommended_dt << " s)";
+    v.warnings.push_back(s.str());
+  }
+  if (std::isfinite(est.rayleigh) && dt > 0.3 * est.rayleigh) {
+    std::ostringstream r;
+    r << "dt is " << 100 * dt / est.rayleigh << " % of the Rayleigh time step; 10-30 % is usual";
+    v.warnings.push_back(r.str());
+  }
+  return v;
+}
+
+}  // namespace kiln

@@ -1,0 +1,28 @@
+// Time-step estimates for a scene, printed by `kiln check` and quoted when a run goes unstable.
+#pragma once
+#include <string>
+#include <vector>
+
+#include "src/scene.h"
+
+namespace kiln {
+
+struct StabilityEstimate {
+  double contact_duration = INFINITY;  // shortest contact among the pairs the scene can form (s)
+  std::string shortest_pair;           // e.g. "copper-copper" or "copper-wall(floor)"
+  double rayleigh = INFINITY;          // Rayleigh time of the smallest particle (s); inf without E
+  double dt_limit = INFINITY;          // central-difference stability limit of the stiffest contact (s)
+  double recommended_dt = INFINITY;    // contact_duration / 50
+  double impact_speed = 0;             // speed used for Hertz durations (m/s)
+};
+
+StabilityEstimate estimate_stability(const Scene& scene);
+
+// Findings about the scene's dt: warnings (text) and whether dt is certainly unstable.
+struct DtVerdict {
+  std::vector<std::string> warnings;
+  bool unstable = false;
+};
+DtVerdict judge_dt(const StabilityEstimate& estimate, double dt);
+
+}  // namespace kiln

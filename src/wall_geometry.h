@@ -1,0 +1,38 @@
+// Walls as straight segments: flattening of boxes, polylines, circles and arcs, and the rigid
+// motion of a wall (where a wall point is at time t, and the wall's velocity at a world point).
+#pragma once
+#include <vector>
+
+#include "src/scene.h"
+
+namespace kiln {
+
+// Appends the segments of an open or closed polyline to `out`, linking neighbours so that a
+// shared vertex belongs to exactly one segment.
+void add_polyline(std::vector<Segment>& out, const std::vector<Vec2>& points, bool closed, int wall);
+
+// Points of a circular arc from angle `from` to `to` (radians, counter-clockwise) whose chords
+// deviate from the true arc by at most `tolerance` (sagitta R (1 - cos(dphi/2)) <= tolerance).
+std::vector<Vec2> arc_points(Vec2 centre, double radius, double from, double to, double tolerance);
+
+// Contact of a disc (centre c, radius r) with segment `s` whose current endpoints are a[s], b[s].
+// A vertex shared by two segments belongs to one of them: the later segment (its end a), and only
+// when the disc lies beyond the neighbour's face too; otherwise the neighbour's face carries the
+// contact. So a disc resting on a polyline joint feels one force, not two [thesis Annex A:
+// segment walls with their end points]. Returns false when this segment carries no contact.
+struct WallHit {
+  Vec2 closest;      // contact point on the wall
+  Vec2 normal;       // unit, from the disc centre towards the wall
+  double overlap = 0;
+};
+bool disc_segment_contact(const std::vector<Segment>& segments, const std::vector<Vec2>& a,
+                          const std::vector<Vec2>& b, int s, Vec2 c, double r, WallHit& hit);
+
+// Rigid-body motion of a wall.
+Vec2 wall_point_at(const WallMotion& motion, Vec2 point0, double t);  // where point0 (at t=0) is at t
+Vec2 wall_velocity_at(const WallMotion& motion, Vec2 world_point, double t);
+// Largest distance any point of the given segments can have moved between t0 and t1.
+double wall_max_displacement(const WallMotion& motion, const std::vector<Segment>& segments, int wall,
+                             double t0, double t1);
+
+}  // namespace kiln
