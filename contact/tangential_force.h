@@ -3,8 +3,9 @@
 // elongation is the contact's history. In 2D the tangent at a contact is the line perp(n), so the
 // elongation is a scalar along t = perp(n): it turns with the contact by construction.
 // When the trial force exceeds mu F_n the contact slides: the force is capped at mu F_n and the
-// elongation is reset to the value consistent with the capped force (as LAMMPS gran/hooke/history
-// does), so that sticking resumes continuously.
+// spring alone is set to carry it, k_t |s| = mu F_n (as LIGGGHTS does; LAMMPS gran/hooke/history
+// also folds the dashpot into the spring, which stores an unphysical c_t v_t/k_t elongation while
+// sliding fast). Sticking then resumes without a jump, since the slip speed is zero there.
 #pragma once
 #include <cmath>
 
@@ -36,7 +37,7 @@ inline TangentialResult tangential_force(const TangentialLaw& law, double spring
   const double limit = law.mu * (normal > 0 ? normal : 0.0);  // a tensile contact holds no friction
   if (std::abs(r.force) > limit) {
     r.force = std::copysign(limit, r.force);
-    r.spring = -(r.force + law.c * slip_speed) / law.k;
+    r.spring = -r.force / law.k;
     r.sliding = true;
   }
   if (dt > 0) {

@@ -9,6 +9,7 @@
 
 #include "integrators/integrator.h"
 #include "src/error.h"
+#include "src/overrides.h"
 #include "src/scene_yaml.h"
 #include "src/simulation.h"
 #include "src/stability.h"
@@ -26,8 +27,8 @@ struct SceneArgs {
 kiln::Scene load(const SceneArgs& a) {
   std::vector<std::string> sets = a.sets;
   if (!a.integrator.empty()) sets.push_back("integrator=" + a.integrator);
-  if (a.dt > 0) sets.push_back("dt=" + std::to_string(a.dt));
-  if (a.t_end > 0) sets.push_back("t_end=" + std::to_string(a.t_end));
+  if (a.dt > 0) sets.push_back(kiln::assignment("dt", a.dt));
+  if (a.t_end > 0) sets.push_back(kiln::assignment("t_end", a.t_end));
   kiln::Scene scene = kiln::load_scene(a.path, sets);
   kiln::make_integrator(scene.integrator);  // an unknown name fails before anything runs
   return scene;

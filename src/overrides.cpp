@@ -1,5 +1,7 @@
 #include "src/overrides.h"
 
+#include <cstdio>
+
 #include "src/error.h"
 #include "src/nearest.h"
 
@@ -66,9 +68,11 @@ void apply_overrides(YAML::Node& root, const std::vector<std::string>& assignmen
       if (!node.IsMap())
         throw InputError({"--set", 0, walked}, "the value above this key is not a map");
       if (last) {
-        if (!node[part] && keys_of(node).empty())
-          throw InputError({"--set", 0, walked}, "no such key");
-        node[part] = value;
+        if (value.IsNull()) {
+          node.remove(part);  // KEY=null takes an optional key out
+        } else {
+          node[part] = value;
+        }
       } else {
         YAML::Node child = node[part];
         if (!child)
@@ -78,6 +82,12 @@ void apply_overrides(YAML::Node& root, const std::vector<std::string>& assignmen
       }
     }
   }
+}
+
+std::string assignment(const std::string& key, double value) {
+  char text[40];
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return key + "=" + text;
 }
 
 }  // namespace kiln

@@ -38,7 +38,7 @@ bool disc_segment_contact(const std::vector<Segment>& segments, const std::vecto
   const Segment& seg = segments[s];
   const Vec2 ab = b[s] - a[s];
   const double along = dot(c - a[s], ab) / dot(ab, ab);
-  if (along > 1 && seg.next_shared) return false;
+  if (along >= 1 && seg.next_shared) return false;  // the vertex itself belongs to the next segment
   if (along < 0 && seg.prev >= 0 && dot(c - a[s], b[seg.prev] - a[seg.prev]) < 0) return false;
   hit.closest = a[s] + std::clamp(along, 0.0, 1.0) * ab;
   const Vec2 d = hit.closest - c;

@@ -1,0 +1,50 @@
+// Helpers shared by the tests: build a scene from YAML text and step it directly.
+#pragma once
+#include <cmath>
+#include <fstream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "integrators/integrator.h"
+#include "src/dem_system.h"
+#include "src/scene_yaml.h"
+
+namespace kiln::testing {
+
+// A scene, its system, its state and an integrator, stepped by hand.
+struct Run {
+  Scene scene;
+  std::unique_ptr<DemSystem> system;
+  std::vector<double> y;
+  std::unique_ptr<Integrator> integrator;
+
+  explicit Run(const std::string& yaml, const std::vector<std::string>& sets = {})
+      : scene(parse_scene(yaml, "test.yaml", sets)) {
+    system = std::make_unique<DemSystem>(scene);
+    y = system->initial_state();
+    integrator = make_integrator(scene.integrator);
+    integrator->start(*system, 0, y.data(), scene.dt);
+  }
+  double t() const { return integrator->time(); }
+  void step() { integrator->step(); }
+  double x(int i) const { return y[system->x_at() + i]; }
+  double yy(int i) const { return y[system->y_at() + i]; }
+  double vx(int i) const { return y[system->vx_at() + i]; }
+  double vy(int i) const { return y[system->vy_at() + i]; }
+  double omega(int i) const { return system->rotates() ? y[system->omega_at() + i] : 0.0; }
+};
+
+inline std::string case_path(const std::string& name) { return std::string(KILN_CASES_DIR) + "/" + name; }
+inline std::string case_text(const std::string& name) {
+  std::ifstream in(case_path(name));
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// Observed order from errors at step sizes h and h/2.
+inline double order(double e_coarse, double e_fine) { return std::log(e_coarse / e_fine) / std::log(2.0); }
+
+}  // namespace kiln::testing
