@@ -29,7 +29,8 @@ std::vector<std::string> keys_of(const YAML::Node& map) {
 
 }  // namespace
 
-void apply_overrides(YAML::Node& root, const std::vector<std::string>& assignments) {
+std::set<std::string> apply_overrides(YAML::Node& root, const std::vector<std::string>& assignments) {
+  std::set<std::string> replaced;
   for (const std::string& assignment : assignments) {
     const size_t eq = assignment.find('=');
     if (eq == std::string::npos || eq == 0)
@@ -42,6 +43,7 @@ void apply_overrides(YAML::Node& root, const std::vector<std::string>& assignmen
       throw InputError({"--set", 0, path}, std::string("cannot read the value: ") + e.what());
     }
     const std::vector<std::string> parts = split_path(path);
+    replaced.insert(path);
     YAML::Node node = root;
     std::string walked;
     for (size_t i = 0; i < parts.size(); ++i) {
@@ -82,6 +84,7 @@ void apply_overrides(YAML::Node& root, const std::vector<std::string>& assignmen
       }
     }
   }
+  return replaced;
 }
 
 std::string assignment(const std::string& key, double value) {

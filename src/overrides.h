@@ -2,6 +2,7 @@
 #pragma once
 #include <yaml-cpp/yaml.h>
 
+#include <set>
 #include <string>
 #include <vector>
 
@@ -11,7 +12,8 @@ namespace kiln {
 // [x, y] lists all work. A path through a key that does not exist fails with the nearest valid
 // keys; the last key may be new (the scene checker then decides whether it is a valid key).
 // KEY=null removes an optional key.
-void apply_overrides(YAML::Node& root, const std::vector<std::string>& assignments);
+// Returns the dotted paths it replaced.
+std::set<std::string> apply_overrides(YAML::Node& root, const std::vector<std::string>& assignments);
 
 // "key=value" for a number, printed with all 17 significant digits (std::to_string keeps six
 // decimals, which turns a 1e-7 s step into 0).

@@ -6,10 +6,17 @@
 
 namespace kiln {
 
+// A value replaced by --set (or inside one) is blamed on the command line, not the file.
+bool SceneNode::from_command_line(const std::string& path) const {
+  if (!overridden_) return false;
+  for (const std::string& p : *overridden_)
+    if (path == p || (path.size() > p.size() && path.compare(0, p.size(), p) == 0 && path[p.size()] == '.')) return true;
+  return false;
+}
+
 Location SceneNode::location() const {
   const YAML::Mark mark = node_.Mark();
-  // Values replaced by --set carry no mark: blame the command line, not the file.
-  if (mark.is_null() || mark.line < 0) return {"--set", 0, path_};
+  if (from_command_line(path_) || mark.is_null() || mark.line < 0) return {"--set", 0, path_};
   return {file_, mark.line + 1, path_};
 }
 
@@ -28,7 +35,7 @@ const SceneNode& SceneNode::allow(std::initializer_list<const char*> allowed) co
     if (!known) {
       const YAML::Mark mark = kv.first.Mark();
       Location at{file_, mark.line + 1, child_path(key)};
-      if (mark.is_null() || mark.line < 0) at = {"--set", 0, child_path(key)};
+      if (from_command_line(child_path(key)) || mark.is_null() || mark.line < 0) at = {"--set", 0, child_path(key)};
       throw InputError(at, "unknown key; valid keys here are " +
                                choices_nearest_first(key, {allowed.begin(), allowed.end()}));
     }
@@ -42,7 +49,7 @@ SceneNode SceneNode::operator[](const std::string& key) const {
   if (!node_.IsMap()) fail("expected a map containing '" + key + "'");
   YAML::Node child = node_[key];
   if (!child) fail("missing required key '" + key + "'");
-  return SceneNode(child, child_path(key), file_);
+  return this->child(child, key);
 }
 
 std::optional<SceneNode> SceneNode::optional(const std::string& key) const {
@@ -54,7 +61,7 @@ std::vector<SceneNode> SceneNode::items() const {
   if (!node_.IsSequence()) fail("expected a list");
   std::vector<SceneNode> out;
   for (size_t i = 0; i < node_.size(); ++i)
-    out.emplace_back(node_[i], child_path(std::to_string(i)), file_);
+    out.push_back(child(node_[i], std::to_string(i)));
   return out;
 }
 
@@ -63,31 +70,31 @@ std::vector<std::pair<std::string, SceneNode>> SceneNode::entries() const {
   std::vector<std::pair<std::string, SceneNode>> out;
   for (const auto& kv : node_) {
     const std::string key = kv.first.as<std::string>();
-    out.emplace_back(key, SceneNode(kv.second, child_path(key), file_));
+    out.emplace_back(key, child(kv.second, key));
   }
   return out;
 }
 
-double SceneNode::number() const {
-  if (!node_.IsScalar()) fail("expected a number");
+double SceneNode::number(const char* expected) const {
+  if (!node_.IsScalar()) fail(std::string("expected ") + expected);
   double v = 0;
   try {
     v = node_.as<double>();
   } catch (const YAML::Exception&) {
-    fail("expected a number, got '" + node_.Scalar() + "'");
+    fail(std::string("expected ") + expected + ", got '" + node_.Scalar() + "'");
   }
   if (!std::isfinite(v)) fail("expected a finite number, got '" + node_.Scalar() + "'");
   return v;
 }
 
 double SceneNode::positive() const {
-  const double v = number();
+  const double v = number("a positive number");
   if (!(v > 0)) fail("expected a positive number, got " + node_.Scalar());
   return v;
 }
 
 double SceneNode::non_negative() const {
-  const double v = number();
+  const double v = number("a number >= 0");
   if (v < 0) fail("expected a number >= 0, got " + node_.Scalar());
   return v;
 }

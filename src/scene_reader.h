@@ -4,6 +4,8 @@
 #include <yaml-cpp/yaml.h>
 
 #include <initializer_list>
+#include <memory>
+#include <set>
 #include <optional>
 #include <string>
 #include <vector>
@@ -15,8 +17,10 @@ namespace kiln {
 
 class SceneNode {
  public:
-  SceneNode(YAML::Node node, std::string path, std::string file)
-      : node_(std::move(node)), path_(std::move(path)), file_(std::move(file)) {}
+  // `overridden` holds the dotted paths that --set replaced: they are reported as "--set".
+  SceneNode(YAML::Node node, std::string path, std::string file,
+            std::shared_ptr<const std::set<std::string>> overridden = nullptr)
+      : node_(std::move(node)), path_(std::move(path)), file_(std::move(file)), overridden_(std::move(overridden)) {}
 
   // Fails unless this is a map whose keys are all among `allowed` (listing the valid ones).
   const SceneNode& allow(std::initializer_list<const char*> allowed) const;
@@ -29,7 +33,7 @@ class SceneNode {
   bool is_sequence() const { return node_.IsSequence(); }
   bool is_scalar() const { return node_.IsScalar(); }
 
-  double number() const;
+  double number(const char* expected = "a number") const;
   double positive() const;      // > 0
   double non_negative() const;  // >= 0
   double in_range(double lo, double hi, bool lo_open, bool hi_open) const;
@@ -48,9 +52,14 @@ class SceneNode {
 
  private:
   std::string child_path(const std::string& key) const;
+  SceneNode child(YAML::Node node, const std::string& key) const {
+    return SceneNode(std::move(node), child_path(key), file_, overridden_);
+  }
+  bool from_command_line(const std::string& path) const;
   YAML::Node node_;
   std::string path_;
   std::string file_;
+  std::shared_ptr<const std::set<std::string>> overridden_;
 };
 
 }  // namespace kiln

@@ -140,7 +140,7 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
                     std::vector<Location>& set_location, std::vector<int>& set_of) {
   int set = 0;
   for (const SceneNode& ps : root["particles"].items()) {
-    ps.allow({"material", "radius", "velocity", "angular_velocity", "at", "fill", "lattice"});
+    ps.allow({"material", "radius", "velocity", "random_velocity", "angular_velocity", "at", "fill", "lattice"});
     const int mat = index.find(ps["material"]);
     if (!(scene.materials[mat].density > 0)) ps["material"].fail("this material needs a density to make particles");
     const int ways = ps.has("at") + ps.has("fill") + ps.has("lattice");
@@ -176,10 +176,20 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
                        lat.has("jitter") ? lat["jitter"].non_negative() : 0.0,
                        static_cast<uint64_t>(lat.has("seed") ? lat["seed"].integer(0) : 1));
     }
+    // random_velocity: {max: V, seed: S} adds to each velocity component a uniform draw in [-V, V].
+    double jitter = 0;
+    Random velocity_rng(1);
+    if (auto rv = ps.optional("random_velocity")) {
+      rv->allow({"max", "seed"});
+      jitter = (*rv)["max"].positive();
+      velocity_rng = Random(static_cast<uint64_t>(rv->has("seed") ? (*rv)["seed"].integer(0) : 1));
+    }
     for (size_t k = 0; k < placed.radius.size(); ++k) {
       scene.position.push_back(placed.position[k]);
       scene.radius.push_back(placed.radius[k]);
-      scene.velocity.push_back(velocity);
+      Vec2 v = velocity;
+      if (jitter > 0) v = v + Vec2{velocity_rng.uniform(-jitter, jitter), velocity_rng.uniform(-jitter, jitter)};
+      scene.velocity.push_back(v);
       scene.angular_velocity.push_back(spin);
       scene.material.push_back(mat);
       set_of.push_back(set);
@@ -316,8 +326,8 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
     throw InputError({file, e.mark.line + 1, ""}, "not valid YAML: " + e.msg);
   }
   if (!doc.IsMap()) throw InputError({file, 1, ""}, "a scene is a map of keys (name, materials, particles, ...)");
-  apply_overrides(doc, overrides);
-  const SceneNode root(doc, "", file);
+  const auto overridden = std::make_shared<const std::set<std::string>>(apply_overrides(doc, overrides));
+  const SceneNode root(doc, "", file, overridden);
   root.allow({"name", "description", "mass_model", "thickness", "gravity", "materials", "contact_model", "contacts",
               "particles", "walls", "integrator", "dt", "t_end", "output_interval", "skin", "allow_overlap", "checks",
               "stop", "report"});

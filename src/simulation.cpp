@@ -157,6 +157,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   files.frame(0, y.data());
   for (auto& o : observers) o->sample(0, y.data());
 
+  std::vector<double> history_time{0.0}, history_error{0.0};
   double contacts_sum = 0;
   long contact_samples = 0;
   auto count_contacts = [&](double t) {
@@ -179,6 +180,8 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
       guard.finite(t, y.data(), system.layout().size());
       const EnergyLedger now = system.energy(t, y.data());
       guard.energy(t, now);
+      history_time.push_back(t);
+      history_error.push_back(balance_error(initial, now));
       files.frame(t, y.data());
       count_contacts(t);
       progress.update(t, steps * scene.dt);
@@ -210,6 +213,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   summary["neighbour_rebuilds"] = system.rebuilds();
   summary["skin"] = system.skin();
   summary["energy"] = ledger_json(final_energy, initial);
+  summary["energy"]["history"] = {{"time", history_time}, {"balance_error", history_error}};
   summary["stability"] = {{"contact_duration", guard.estimate().contact_duration},
                           {"shortest_pair", guard.estimate().shortest_pair},
                           {"dt_limit", guard.estimate().dt_limit},
