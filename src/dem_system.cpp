@@ -57,6 +57,7 @@ DemSystem::DemSystem(const Scene& scene)
   layout_.nz = ledger_size;
 
   radius_ = scene.radius;
+  for (double r : radius_) inv_radius_.push_back(1 / r);
   material_ = scene.material;
   for (int i = 0; i < n_; ++i) {
     const double m = disc_mass(scene, radius_[i], scene.materials[material_[i]].density);
@@ -238,7 +239,8 @@ void DemSystem::derivative(double t, const double* y, double* ydot) {
       continue;
     }
     const double d = std::sqrt(d2);
-    const double nx = dx / d, ny = dy / d;  // from i to j
+    const double inv_d = 1 / d;
+    const double nx = dx * inv_d, ny = dy * inv_d;  // from i to j
     const double overlap = rsum - d;
     const LawFlags& lf = flags_[pp_.law[p]];
     double rvx = s.vx[i] - s.vx[j], rvy = s.vy[i] - s.vy[j];
@@ -270,7 +272,7 @@ void DemSystem::derivative(double t, const double* y, double* ydot) {
         friction -= m * spin;
       }
     }
-    worst = std::max(worst, overlap / std::min(radius_[i], radius_[j]));
+    worst = std::max(worst, overlap * std::max(inv_radius_[i], inv_radius_[j]));
   }
 
   // Particle-wall contacts. A wall point's velocity enters the relative velocity; the work the
@@ -317,7 +319,7 @@ void DemSystem::derivative(double t, const double* y, double* ydot) {
         walls_work += mr * wall_spin;
       }
     }
-    worst = std::max(worst, overlap / r);
+    worst = std::max(worst, overlap * inv_radius_[i]);
   }
 
   const double gx = scene_.gravity.x, gy = scene_.gravity.y;

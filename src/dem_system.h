@@ -79,7 +79,7 @@ class DemSystem final : public OdeSystem {
   bool rotates_ = false;
   bool moving_walls_ = false;
   StateLayout layout_;
-  std::vector<double> radius_, mass_, inv_mass_, inertia_, inv_inertia_;
+  std::vector<double> radius_, inv_radius_, mass_, inv_mass_, inertia_, inv_inertia_;
   std::vector<int> material_;
   std::vector<LawFlags> flags_;  // per material pair
 

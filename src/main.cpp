@@ -8,6 +8,7 @@
 #include <iostream>
 
 #include "integrators/integrator.h"
+#include "src/bench.h"
 #include "src/error.h"
 #include "src/overrides.h"
 #include "src/scene_yaml.h"
@@ -117,12 +118,19 @@ int main(int argc, char** argv) {
   add_scene_options(check_cmd, check_args);
   CLI::App* cases_cmd = app.add_subcommand("cases", "list the shipped cases");
   CLI::App* integrators_cmd = app.add_subcommand("integrators", "list the integrators with their orders");
+  kiln::BenchOptions bench;
+  CLI::App* bench_cmd = app.add_subcommand("bench", "particle-steps per second on the benchmark pile (../shared/BENCH.md)");
+  bench_cmd->add_option("--columns", bench.columns, "lattice columns: 50 rows x columns discs (20: 1,000; 200: 10,000)")
+      ->check(CLI::PositiveNumber);
+  bench_cmd->add_option("--steps", bench.steps, "timed steps")->check(CLI::PositiveNumber);
+  bench_cmd->add_flag("--flowing", bench.flowing, "tilt gravity 30 degrees toward +x");
   CLI11_PARSE(app, argc, argv);
   try {
     if (*run_cmd) return run(run_args, out, quiet);
     if (*check_cmd) return check(check_args);
     if (*cases_cmd) return list_cases();
     if (*integrators_cmd) return list_integrators();
+    if (*bench_cmd) return kiln::run_bench(bench);
   } catch (const kiln::InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;

@@ -33,23 +33,6 @@ std::vector<Vec2> arc_points(Vec2 centre, double radius, double from, double to,
   return pts;
 }
 
-bool disc_segment_contact(const std::vector<Segment>& segments, const std::vector<Vec2>& a,
-                          const std::vector<Vec2>& b, int s, Vec2 c, double r, WallHit& hit) {
-  const Segment& seg = segments[s];
-  const Vec2 ab = b[s] - a[s];
-  const double along = dot(c - a[s], ab) / dot(ab, ab);
-  if (along >= 1 && seg.next_shared) return false;  // the vertex itself belongs to the next segment
-  if (along < 0 && seg.prev >= 0 && dot(c - a[s], b[seg.prev] - a[seg.prev]) < 0) return false;
-  hit.closest = a[s] + std::clamp(along, 0.0, 1.0) * ab;
-  const Vec2 d = hit.closest - c;
-  const double dist2 = dot(d, d);
-  if (dist2 >= r * r) return false;
-  const double dist = std::sqrt(dist2);
-  hit.normal = (1 / dist) * d;
-  hit.overlap = r - dist;
-  return true;
-}
-
 namespace {
 double travel_time(const WallMotion& m) {
   const double speed = norm(m.velocity);

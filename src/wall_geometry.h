@@ -1,6 +1,8 @@
 // Walls as straight segments: flattening of boxes, polylines, circles and arcs, and the rigid
 // motion of a wall (where a wall point is at time t, and the wall's velocity at a world point).
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "src/scene.h"
@@ -25,8 +27,22 @@ struct WallHit {
   Vec2 normal;       // unit, from the disc centre towards the wall
   double overlap = 0;
 };
-bool disc_segment_contact(const std::vector<Segment>& segments, const std::vector<Vec2>& a,
-                          const std::vector<Vec2>& b, int s, Vec2 c, double r, WallHit& hit);
+inline bool disc_segment_contact(const std::vector<Segment>& segments, const std::vector<Vec2>& a,
+                          const std::vector<Vec2>& b, int s, Vec2 c, double r, WallHit& hit) {
+  const Segment& seg = segments[s];
+  const Vec2 ab = b[s] - a[s];
+  const double along = dot(c - a[s], ab) / dot(ab, ab);
+  if (along >= 1 && seg.next_shared) return false;  // the vertex itself belongs to the next segment
+  if (along < 0 && seg.prev >= 0 && dot(c - a[s], b[seg.prev] - a[seg.prev]) < 0) return false;
+  hit.closest = a[s] + std::clamp(along, 0.0, 1.0) * ab;
+  const Vec2 d = hit.closest - c;
+  const double dist2 = dot(d, d);
+  if (dist2 >= r * r) return false;
+  const double dist = std::sqrt(dist2);
+  hit.normal = (1 / dist) * d;
+  hit.overlap = r - dist;
+  return true;
+}
 
 // Rigid-body motion of a wall.
 Vec2 wall_point_at(const WallMotion& motion, Vec2 point0, double t);  // where point0 (at t=0) is at t

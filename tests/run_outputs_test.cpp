@@ -126,7 +126,7 @@ TEST_CASE("stability estimate: linear contact duration and the central-differenc
   CHECK(judge_dt(est, 1e-4).warnings.size() == 1);  // 7 steps per contact: warned, not refused
 }
 
-TEST_CASE("a frictionless scene integrates no rotation; friction adds angles and spins", "[state]") {
+TEST_CASE("a frictionless scene integrates no rotation, while friction adds angles and spins", "[state]") {
   const Scene plain = load_scene(testing::case_path("t1_free_fall.yaml"));
   DemSystem without(plain);
   CHECK_FALSE(without.rotates());

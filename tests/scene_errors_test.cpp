@@ -70,7 +70,7 @@ TEST_CASE("a missing required value is an error naming the key", "[errors]") {
   CHECK(msg.find("'t_end'") != std::string::npos);
 }
 
-TEST_CASE("impossible values: negative radius, restitution outside (0, 1]", "[errors]") {
+TEST_CASE("impossible values: negative radius, restitution of 0 or above 1", "[errors]") {
   const std::string radius = error_of(replaced(good, "radius: 0.002", "radius: -0.002"));
   CHECK(radius.find("bad.yaml:6: key 'particles.0.radius'") != std::string::npos);
   const std::string e = error_of(replaced(good, "restitution: 0.8", "restitution: 1.3"));
@@ -104,7 +104,7 @@ TEST_CASE("a Hertz contact without Young's modulus is an error at the contact en
   CHECK(msg.find("youngs_modulus") != std::string::npos);
 }
 
-TEST_CASE("--set overrides by dotted path; a bad path lists the nearest keys", "[errors]") {
+TEST_CASE("--set overrides by dotted path and a bad path lists the nearest keys", "[errors]") {
   CHECK(parse_scene(good, "bad.yaml", {"materials.copper.restitution=0.5"}).laws[0].restitution == 0.5);
   const std::string path = error_of(good, {"materials.coper.restitution=0.5"});
   CHECK(path.find("--set: key 'materials.coper'") != std::string::npos);

@@ -51,7 +51,7 @@ TEST_CASE("arc flattening keeps every chord within the tolerance", "[walls]") {
   CHECK(norm(pts.front() - pts.back()) < 1e-12);
 }
 
-TEST_CASE("a translating wall stops after its distance; a rotating wall moves at omega x r", "[walls]") {
+TEST_CASE("a translating wall stops after its distance and a rotating wall moves at omega x r", "[walls]") {
   WallMotion slide;
   slide.kind = WallMotion::Kind::translate;
   slide.velocity = {0.01, 0};
