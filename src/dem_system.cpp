@@ -43,6 +43,12 @@ DemSystem::DemSystem(const Scene& scene)
       f.tangential = law.friction > 0;
       f.rolling = law.rolling_friction > 0;
       f.beta = law.damping_rate > 0 ? 0 : contact::restitution_damping(law.restitution, f.hertz, f.tension);
+      const Material &ma = scene.materials[a], &mb = scene.materials[b];
+      f.conduction = {law.conduction, ma.conductivity, mb.conductivity, law.conductance, law.modulus_ratio,
+                      law.effective_modulus, scene.thickness, law.contact_resistance};
+      if (ma.conductivity > 0 && mb.conductivity > 0)
+        f.heat_share = thermal::heat_partition(ma.electrical_resistivity, mb.electrical_resistivity, ma.conductivity,
+                                               mb.conductivity);
     }
   // A scene that uses friction or rolling resistance anywhere carries rotation; otherwise discs
   // cannot spin and no angles are integrated.
@@ -53,8 +59,11 @@ DemSystem::DemSystem(const Scene& scene)
     }
     rotates_ = rotates_ || scene.angular_velocity[i] != 0;
   }
+  thermal_ = scene.thermal;
   layout_.nq = (rotates_ ? 3 : 2) * n_;
-  layout_.nz = ledger_size;
+  layout_.nz = ledger_count() + (thermal_ ? n_ : 0);
+  heat_power_factor_friction_ = scene.heat_from_dissipation != HeatFromDissipation::none;
+  heat_power_factor_damping_ = scene.heat_from_dissipation == HeatFromDissipation::all;
 
   radius_ = scene.radius;
   for (double r : radius_) inv_radius_.push_back(1 / r);
@@ -65,6 +74,10 @@ DemSystem::DemSystem(const Scene& scene)
     inv_mass_.push_back(1 / m);
     inertia_.push_back(disc_inertia(scene, m, radius_[i]));
     inv_inertia_.push_back(1 / inertia_.back());
+    if (thermal_) {
+      capacity_.push_back(m * scene.materials[material_[i]].specific_heat);
+      inv_capacity_.push_back(1 / capacity_.back());
+    }
   }
   for (const Wall& w : scene.walls) moving_walls_ = moving_walls_ || w.motion.kind != WallMotion::Kind::fixed;
   x_ref_.resize(n_);
@@ -80,6 +93,7 @@ std::vector<double> DemSystem::initial_state() const {
     y[vx_at() + i] = scene_.velocity[i].x;
     y[vy_at() + i] = scene_.velocity[i].y;
     if (rotates_) y[omega_at() + i] = scene_.angular_velocity[i];
+    if (thermal_) y[temperature_at() + i] = scene_.temperature[i];
   }
   return y;
 }
@@ -227,6 +241,11 @@ void DemSystem::derivative(double t, const double* y, double* ydot) {
   if (moving_walls_) update_walls(t);
   const double dt_hist = t - t_committed_;
   double damping = 0, friction = 0, walls_work = 0, worst = 0;
+  // Heat: temperatures and their rates (thermal scenes only).
+  const double* temp = thermal_ ? y + temperature_at() : nullptr;
+  double* heat = thermal_ ? ydot + temperature_at() : nullptr;
+  if (thermal_) std::fill_n(heat, n_, 0.0);
+  double heat_walls = 0, heat_generated = 0;
 
   // Particle-particle contacts.
   for (int p = 0, np = pp_.size(); p < np; ++p) {
@@ -261,6 +280,7 @@ void DemSystem::derivative(double t, const double* y, double* ydot) {
     s.fy[j] -= fy;
     damping += f.damping_power;
     friction += f.friction_power;
+    double rolling_power = 0;
     if (s.torque) {
       s.torque[i] += radius_[i] * f.tangential;
       s.torque[j] += radius_[j] * f.tangential;
@@ -269,8 +289,19 @@ void DemSystem::derivative(double t, const double* y, double* ydot) {
         const double m = contact::rolling_torque(lf.mu_roll, radius_[i] * radius_[j] / rsum, f.normal, spin);
         s.torque[i] += m;
         s.torque[j] -= m;
-        friction -= m * spin;
+        rolling_power = -m * spin;
+        friction += rolling_power;
       }
+    }
+    if (heat) {
+      // Conduction H (T_j - T_i) ([thesis] eq. II.6-II.8), and the dissipation that becomes heat,
+      // shared by beta (Nguyen et al. 2009: m c_p dT/dt = sum_j (H (T_j - T_i) + E_f / (2 dt))).
+      const double q = thermal::conductance(lf.conduction, radius_[i], radius_[j], d, f.normal) * (temp[j] - temp[i]);
+      const double generated = heat_power_factor_friction_ * (f.friction_power + rolling_power) +
+                               heat_power_factor_damping_ * f.damping_power;
+      heat[i] += q + lf.heat_share * generated;
+      heat[j] += -q + (1 - lf.heat_share) * generated;
+      heat_generated += generated;
     }
     worst = std::max(worst, overlap * std::max(inv_radius_[i], inv_radius_[j]));
   }
@@ -307,6 +338,7 @@ void DemSystem::derivative(double t, const double* y, double* ydot) {
     damping += f.damping_power;
     friction += f.friction_power;
     walls_work += fx * u.x + fy * u.y;
+    double rolling_power = 0;
     if (s.torque) {
       s.torque[i] += r * f.tangential;
       if (lf.rolling) {
@@ -315,9 +347,23 @@ void DemSystem::derivative(double t, const double* y, double* ydot) {
         const double spin = s.w[i] - wall_spin;
         const double mr = contact::rolling_torque(lf.mu_roll, r, f.normal, spin);
         s.torque[i] += mr;
-        friction -= mr * spin;
+        rolling_power = -mr * spin;
+        friction += rolling_power;
         walls_work += mr * wall_spin;
       }
+    }
+    if (heat) {
+      // An isothermal wall exchanges H (T_wall - T_i); the wall keeps its share of frictional heat.
+      const thermal::WallTemperature& wt = scene_.walls[wall].temperature;
+      if (wt.isothermal()) {
+        const double q = thermal::conductance(lf.conduction, r, INFINITY, r - overlap, f.normal) * (wt.at(t) - temp[i]);
+        heat[i] += q;
+        heat_walls += q;
+      }
+      const double generated = lf.heat_share * (heat_power_factor_friction_ * (f.friction_power + rolling_power) +
+                                                heat_power_factor_damping_ * f.damping_power);
+      heat[i] += generated;
+      heat_generated += generated;
     }
     worst = std::max(worst, overlap * inv_radius_[i]);
   }
@@ -333,6 +379,11 @@ void DemSystem::derivative(double t, const double* y, double* ydot) {
   ledger[ledger_damping] = damping;
   ledger[ledger_friction] = friction;
   ledger[ledger_walls] = walls_work;
+  if (heat) {
+    for (int i = 0; i < n_; ++i) heat[i] *= inv_capacity_[i];
+    ledger[ledger_heat_walls] = heat_walls;
+    ledger[ledger_heat_generated] = heat_generated;
+  }
   max_overlap_fraction_ = worst;
 }
 
@@ -371,7 +422,39 @@ EnergyLedger DemSystem::energy(double t, const double* y) const {
   e.dissipated_damping = ledger[ledger_damping];
   e.dissipated_friction = ledger[ledger_friction];
   e.work_by_walls = ledger[ledger_walls];
+  if (thermal_) {
+    for (int i = 0; i < n_; ++i) e.thermal += capacity_[i] * y[temperature_at() + i];
+    e.heat_from_walls = ledger[ledger_heat_walls];
+    e.heat_from_dissipation = ledger[ledger_heat_generated];
+  }
   return e;
+}
+
+std::vector<ConductanceLink> DemSystem::conduction_links(double t, const double* y) const {
+  std::vector<ConductanceLink> links;
+  const double *px = y + x_at(), *py = y + y_at();
+  for (int p = 0; p < pp_.size(); ++p) {
+    const int i = pp_.i[p], j = pp_.j[p];
+    const double d = std::hypot(px[j] - px[i], py[j] - py[i]);
+    const double overlap = radius_[i] + radius_[j] - d;
+    if (overlap <= 0) continue;
+    const LawFlags& lf = flags_[pp_.law[p]];
+    const double fn = contact::normal_force({pp_.k[p], pp_.c[p], lf.hertz, lf.tension}, overlap, 0.0);
+    links.push_back({i, j, thermal::conductance(lf.conduction, radius_[i], radius_[j], d, fn)});
+  }
+  std::vector<Vec2> a, b;
+  wall_geometry(t, a, b);
+  for (int p = 0; p < pw_.size(); ++p) {
+    const int i = pw_.i[p], wall = scene_.segments[pw_.j[p]].wall;
+    WallHit hit;
+    if (!scene_.walls[wall].temperature.isothermal() ||
+        !disc_segment_contact(scene_.segments, a, b, pw_.j[p], {px[i], py[i]}, radius_[i], hit))
+      continue;
+    const LawFlags& lf = flags_[pw_.law[p]];
+    const double fn = contact::normal_force({pw_.k[p], pw_.c[p], lf.hertz, lf.tension}, hit.overlap, 0.0);
+    links.push_back({i, -1 - wall, thermal::conductance(lf.conduction, radius_[i], INFINITY, radius_[i] - hit.overlap, fn)});
+  }
+  return links;
 }
 
 DemSystem::ContactCount DemSystem::count_contacts(double t, const double* y) const {

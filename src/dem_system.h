@@ -22,7 +22,22 @@
 
 namespace kiln {
 
-enum Ledger { ledger_damping = 0, ledger_friction = 1, ledger_walls = 2, ledger_size = 3 };
+// The first-order part z: the ledger integrals, then (thermal scenes) one temperature per particle.
+enum Ledger {
+  ledger_damping = 0,
+  ledger_friction = 1,
+  ledger_walls = 2,
+  ledger_heat_walls = 3,
+  ledger_heat_generated = 4,
+  ledger_mechanical = 3,  // entries in a scene without heat
+  ledger_thermal = 5      // entries in a thermal scene
+};
+
+// A conduction path of a frozen contact network: particle i to particle j, or to wall -1 - j.
+struct ConductanceLink {
+  int i = 0, j = 0;
+  double h = 0;  // W/K
+};
 
 class DemSystem final : public OdeSystem {
  public:
@@ -44,6 +59,13 @@ class DemSystem final : public OdeSystem {
   int vy_at() const { return layout_.nq + n_; }
   int omega_at() const { return rotates_ ? layout_.nq + 2 * n_ : -1; }
   int ledger_at() const { return 2 * layout_.nq; }
+  int ledger_count() const { return thermal_ ? ledger_thermal : ledger_mechanical; }
+  int temperature_at() const { return thermal_ ? ledger_at() + ledger_thermal : -1; }
+  bool thermal() const { return thermal_; }
+  double heat_capacity(int i) const { return capacity_[i]; }
+  // Conductances of the contacts active in state y at time t (with elastic normal forces): the
+  // network that a frozen stage integrates.
+  std::vector<ConductanceLink> conduction_links(double t, const double* y) const;
 
   double mass(int i) const { return mass_[i]; }
   double inertia(int i) const { return inertia_[i]; }
@@ -68,6 +90,8 @@ class DemSystem final : public OdeSystem {
   struct LawFlags {
     double mu = 0, mu_roll = 0, beta = 0;
     bool hertz = false, tension = true, tangential = false, rolling = false;
+    thermal::ConductionLaw conduction;  // from the first material to the second
+    double heat_share = 0.5;            // share of frictional heat for the first material's body
   };
   void rebuild(double t, const double* y);
   void set_coefficients(ContactList& list, bool walls);
@@ -78,6 +102,9 @@ class DemSystem final : public OdeSystem {
   int n_ = 0;
   bool rotates_ = false;
   bool moving_walls_ = false;
+  bool thermal_ = false;
+  double heat_power_factor_damping_ = 0, heat_power_factor_friction_ = 0;  // 1 when that dissipation heats
+  std::vector<double> capacity_, inv_capacity_;
   StateLayout layout_;
   std::vector<double> radius_, inv_radius_, mass_, inv_mass_, inertia_, inv_inertia_;
   std::vector<int> material_;

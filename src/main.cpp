@@ -55,11 +55,16 @@ int check(const SceneArgs& a) {
   else
     std::printf("  Rayleigh time step         n/a (no youngs_modulus given)\n");
   std::printf("  recommended dt             %.4g s (contact duration / 50)\n", est.recommended_dt);
+  if (scene.thermal) {
+    std::printf("  explicit conduction limit  %.4g s (contact network at t = 0)", est.thermal_dt_limit_network);
+    if (!scene.frozen) std::printf(", %.4g s (dense packing at 1 %% overlap)", est.thermal_dt_limit);
+    std::printf("\n  thermal relaxation time    %.4g s (fastest mode, 1 / lambda_max)\n", est.thermal_relaxation_time);
+  }
   std::printf("  chosen dt                  %.4g s = 1/%.1f of the contact duration", scene.dt,
               est.contact_duration / scene.dt);
   if (std::isfinite(est.rayleigh)) std::printf(", %.1f %% of the Rayleigh step", 100 * scene.dt / est.rayleigh);
   std::printf("\n");
-  const kiln::DtVerdict verdict = kiln::judge_dt(est, scene.dt);
+  const kiln::DtVerdict verdict = kiln::judge_dt(est, scene.dt, scene);
   for (const std::string& w : verdict.warnings)
     std::fprintf(stderr, "%s: %s\n", verdict.unstable ? "error" : "warning", w.c_str());
   return verdict.unstable ? 1 : 0;
@@ -67,7 +72,7 @@ int check(const SceneArgs& a) {
 
 int run(const SceneArgs& a, std::string out, bool quiet) {
   const kiln::Scene scene = load(a);
-  const kiln::DtVerdict verdict = kiln::judge_dt(kiln::estimate_stability(scene), scene.dt);
+  const kiln::DtVerdict verdict = kiln::judge_dt(kiln::estimate_stability(scene), scene.dt, scene);
   for (const std::string& w : verdict.warnings)
     std::fprintf(stderr, "%s: %s\n", verdict.unstable ? "error" : "warning", w.c_str());
   if (verdict.unstable) return 1;

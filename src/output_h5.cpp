@@ -10,7 +10,7 @@ void check(herr_t status, const char* what) {
 }
 }  // namespace
 
-H5Frames::H5Frames(const std::string& path, int particles) : n_(particles) {
+H5Frames::H5Frames(const std::string& path, int particles, bool thermal) : n_(particles) {
   file_ = H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   if (file_ < 0) throw std::runtime_error("cannot create " + path);
   const hsize_t scalar[] = {1};
@@ -21,6 +21,7 @@ H5Frames::H5Frames(const std::string& path, int particles) : n_(particles) {
   velocity_ = create("velocity", 2, pairs);
   angle_ = create("angle", 1, singles);
   omega_ = create("angular_velocity", 1, singles);
+  if (thermal) temperature_ = create("temperature", 1, singles);
   pair_buffer_.resize(2 * n_);
   zeros_.assign(n_, 0.0);
 }
@@ -55,7 +56,7 @@ void H5Frames::extend_and_write(hid_t ds, int rank, const hsize_t* frame_dims, c
 }
 
 void H5Frames::append(double t, const double* x, const double* y, const double* vx, const double* vy,
-                      const double* angle, const double* omega) {
+                      const double* angle, const double* omega, const double* temperature) {
   const hsize_t pairs[] = {static_cast<hsize_t>(n_), 2};
   const hsize_t singles[] = {static_cast<hsize_t>(n_)};
   extend_and_write(time_, 0, nullptr, &t);
@@ -71,6 +72,7 @@ void H5Frames::append(double t, const double* x, const double* y, const double* 
   extend_and_write(velocity_, 2, pairs, pair_buffer_.data());
   extend_and_write(angle_, 1, singles, angle ? angle : zeros_.data());
   extend_and_write(omega_, 1, singles, omega ? omega : zeros_.data());
+  if (temperature_ >= 0) extend_and_write(temperature_, 1, singles, temperature);
   ++frames_;
 }
 
@@ -109,7 +111,8 @@ void H5Frames::attribute(const std::string& name, double value) {
 
 void H5Frames::close() {
   if (file_ < 0) return;
-  for (hid_t ds : {time_, position_, velocity_, angle_, omega_}) H5Dclose(ds);
+  for (hid_t ds : {time_, position_, velocity_, angle_, omega_, temperature_})
+    if (ds >= 0) H5Dclose(ds);
   H5Fclose(file_);
   file_ = -1;
 }

@@ -1,6 +1,7 @@
 // result.h5: one frame per output time, written as the run goes (chunked, extendible datasets).
 //   time (F), position (F x N x 2), velocity (F x N x 2), angle (F x N), angular_velocity (F x N),
-//   radius (N), id (N); attributes scene, integrator, dt, kiln_version.
+//   temperature (F x N) in thermal scenes, radius (N), id (N); attributes scene, integrator, dt,
+//   kiln_version.
 #pragma once
 #include <hdf5.h>
 
@@ -11,7 +12,7 @@ namespace kiln {
 
 class H5Frames {
  public:
-  H5Frames(const std::string& path, int particles);
+  H5Frames(const std::string& path, int particles, bool thermal);
   ~H5Frames();
   H5Frames(const H5Frames&) = delete;
   H5Frames& operator=(const H5Frames&) = delete;
@@ -21,7 +22,7 @@ class H5Frames {
   void write_constant(const std::vector<double>& radius);
   // Fields of one frame (angle and omega may be null: written as zeros).
   void append(double t, const double* x, const double* y, const double* vx, const double* vy, const double* angle,
-              const double* omega);
+              const double* omega, const double* temperature);
   int frames() const { return frames_; }
   void close();
 
@@ -29,7 +30,7 @@ class H5Frames {
   hid_t create(const char* name, int rank, const hsize_t* frame_dims);
   void extend_and_write(hid_t ds, int rank, const hsize_t* frame_dims, const double* data);
   hid_t file_ = -1;
-  hid_t time_ = -1, position_ = -1, velocity_ = -1, angle_ = -1, omega_ = -1;
+  hid_t time_ = -1, position_ = -1, velocity_ = -1, angle_ = -1, omega_ = -1, temperature_ = -1;
   int n_ = 0, frames_ = 0;
   std::vector<double> pair_buffer_, zeros_;
 };

@@ -18,7 +18,7 @@ void write_file_atomically(const std::string& path, const std::string& text) {
   std::filesystem::rename(tmp, path);
 }
 
-std::string xdmf_document(const std::string& h5, int n, const std::vector<double>& times) {
+std::string xdmf_document(const std::string& h5, int n, const std::vector<double>& times, bool thermal) {
   const size_t frames = times.size();
   std::ostringstream x;
   auto slab = [&](size_t k, const char* dataset, int components) {
@@ -48,8 +48,11 @@ std::string xdmf_document(const std::string& h5, int n, const std::vector<double
       << "      <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">\n"
       << slab(k, "velocity", 2) << "      </Attribute>\n"
       << "      <Attribute Name=\"angular_velocity\" AttributeType=\"Scalar\" Center=\"Node\">\n"
-      << slab(k, "angular_velocity", 1) << "      </Attribute>\n"
-      << "    </Grid>\n";
+      << slab(k, "angular_velocity", 1) << "      </Attribute>\n";
+    if (thermal)
+      x << "      <Attribute Name=\"temperature\" AttributeType=\"Scalar\" Center=\"Node\">\n"
+        << slab(k, "temperature", 1) << "      </Attribute>\n";
+    x << "    </Grid>\n";
   }
   x << "    </Grid>\n  </Domain>\n</Xdmf>\n";
   return x.str();

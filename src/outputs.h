@@ -11,7 +11,7 @@ namespace kiln {
 void write_file_atomically(const std::string& path, const std::string& text);
 
 // result.xdmf describing `frames` frames of `particles` points in the HDF5 file `h5_name`.
-std::string xdmf_document(const std::string& h5_name, int particles, const std::vector<double>& times);
+std::string xdmf_document(const std::string& h5_name, int particles, const std::vector<double>& times, bool thermal);
 
 // A picture of one state: discs coloured by `value` (speed or temperature) with a colour bar,
 // walls as lines. Written as PNG by cairo.

@@ -1,10 +1,13 @@
 // The scene: everything a run needs, fully expanded and validated (particle sets already filled,
 // walls already flattened to segments). Built by scene_yaml.cpp; read by the DEM system and outputs.
 #pragma once
+#include <cmath>
 #include <string>
 #include <vector>
 
 #include "src/vec2.h"
+#include "thermal/conductance.h"
+#include "thermal/wall_temperature.h"
 
 namespace kiln {
 
@@ -20,6 +23,9 @@ struct Material {
   double restitution = 1;      // normal coefficient of restitution in (0, 1]
   double friction = 0;         // Coulomb coefficient
   double rolling_friction = 0; // constant rolling resistance coefficient
+  double specific_heat = 0;          // J/(kg K)
+  double conductivity = 0;           // W/(m K)
+  double electrical_resistivity = 0; // Ohm m, shares frictional heat (0: not given)
 };
 
 // Contact law parameters for one unordered pair of materials.
@@ -34,7 +40,15 @@ struct PairLaw {
   double tangential_stiffness_ratio = 2.0 / 7.0;  // k_t / k_n
   double tangential_damping_ratio = 0.5;          // c_t / c_n
   double rolling_friction = 0;
+  // Heat conduction through the contact (thermal scenes).
+  thermal::ConductionModel conduction = thermal::ConductionModel::lens;
+  double conductance = 0;          // constant model: H (W/K)
+  double modulus_ratio = 1;        // batchelor_obrien: E_simulated / E_real
+  double contact_resistance = 0;   // pipe_network: R_c per unit length (m K/W)
 };
+
+// What mechanical dissipation becomes heat in the particles.
+enum class HeatFromDissipation { none, friction, all };
 
 struct WallMotion {
   enum class Kind { fixed, translate, rotate } kind = Kind::fixed;
@@ -57,6 +71,19 @@ struct Wall {
   std::string name;
   int material = 0;
   WallMotion motion;
+  thermal::WallTemperature temperature;  // adiabatic unless given
+};
+
+// Settle, then freeze: once the kinetic energy falls below a threshold (not before `not_before`,
+// at the latest at `latest`), positions and contact forces are fixed and only heat is integrated,
+// with its own time step, until t_end.
+struct FreezeStage {
+  bool enabled = false;
+  double kinetic_energy_below = 0;
+  double not_before = 0;
+  double latest = INFINITY;
+  double dt = 0;
+  double output_interval = 0;
 };
 
 
@@ -77,7 +104,15 @@ struct Scene {
   std::vector<Vec2> position, velocity;
   std::vector<double> radius, angular_velocity;
   std::vector<int> material;
+  std::vector<double> temperature;  // thermal scenes only
   int n_particles() const { return static_cast<int>(radius.size()); }
+
+  // Heat. A scene is thermal when its particles carry temperatures; otherwise no temperature is
+  // integrated and nothing about heat is computed.
+  bool thermal = false;
+  HeatFromDissipation heat_from_dissipation = HeatFromDissipation::none;
+  bool frozen = false;  // mechanics frozen from the start: a thermal-only scene
+  FreezeStage freeze;
 
   std::vector<Wall> walls;
   std::vector<Segment> segments;

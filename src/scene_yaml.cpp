@@ -35,7 +35,8 @@ struct MaterialIndex {
 };
 
 Material read_material(const std::string& name, const SceneNode& m) {
-  m.allow({"density", "youngs_modulus", "poisson_ratio", "stiffness", "restitution", "friction", "rolling_friction"});
+  m.allow({"density", "youngs_modulus", "poisson_ratio", "stiffness", "restitution", "friction", "rolling_friction",
+           "specific_heat", "conductivity", "electrical_resistivity"});
   Material mat;
   mat.name = name;
   if (auto v = m.optional("density")) mat.density = v->positive();
@@ -45,6 +46,9 @@ Material read_material(const std::string& name, const SceneNode& m) {
   if (auto v = m.optional("restitution")) mat.restitution = v->in_range(0, 1, true, false);
   if (auto v = m.optional("friction")) mat.friction = v->non_negative();
   if (auto v = m.optional("rolling_friction")) mat.rolling_friction = v->non_negative();
+  if (auto v = m.optional("specific_heat")) mat.specific_heat = v->positive();
+  if (auto v = m.optional("conductivity")) mat.conductivity = v->positive();
+  if (auto v = m.optional("electrical_resistivity")) mat.electrical_resistivity = v->positive();
   return mat;
 }
 
@@ -72,19 +76,36 @@ NormalModel read_model(const SceneNode& node) {
   return node.choice({"linear", "hertz"}) == "hertz" ? NormalModel::hertz : NormalModel::linear;
 }
 
+thermal::ConductionModel read_conduction(const SceneNode& node) {
+  using M = thermal::ConductionModel;
+  const std::string c = node.choice({"lens", "hertz", "batchelor_obrien", "pipe_network", "constant", "none"});
+  if (c == "lens") return M::lens;
+  if (c == "hertz") return M::hertz;
+  if (c == "batchelor_obrien") return M::batchelor_obrien;
+  if (c == "pipe_network") return M::pipe_network;
+  if (c == "constant") return M::constant;
+  return M::none;
+}
+
 void read_contacts(const SceneNode& root, Scene& scene, const MaterialIndex& index,
                    std::vector<Location>& law_location) {
   const int nm = scene.n_materials();
   NormalModel model = NormalModel::linear;
   if (auto m = root.optional("contact_model")) model = read_model(*m);
+  thermal::ConductionModel conduction = thermal::ConductionModel::lens;
+  if (auto c = root.optional("conduction_model")) conduction = read_conduction(*c);
   scene.laws.resize(nm * nm);
   law_location.assign(nm * nm, root.location());
   for (int a = 0; a < nm; ++a)
-    for (int b = 0; b < nm; ++b) scene.laws[a * nm + b] = combined_law(scene.materials[a], scene.materials[b], model);
+    for (int b = 0; b < nm; ++b) {
+      scene.laws[a * nm + b] = combined_law(scene.materials[a], scene.materials[b], model);
+      scene.laws[a * nm + b].conduction = conduction;
+    }
   if (auto contacts = root.optional("contacts")) {
     for (const SceneNode& c : contacts->items()) {
       c.allow({"between", "model", "stiffness", "restitution", "damping_rate", "tension", "friction",
-               "rolling_friction", "tangential_stiffness_ratio", "tangential_damping_ratio"});
+               "rolling_friction", "tangential_stiffness_ratio", "tangential_damping_ratio", "conduction", "conductance",
+               "softened_modulus_ratio", "contact_resistance"});
       const auto pair = c["between"].items();
       if (pair.size() != 2) c["between"].fail("expected two material names [a, b]");
       const int a = index.find(pair[0]), b = index.find(pair[1]);
@@ -100,6 +121,10 @@ void read_contacts(const SceneNode& root, Scene& scene, const MaterialIndex& ind
       if (auto v = c.optional("rolling_friction")) law.rolling_friction = v->non_negative();
       if (auto v = c.optional("tangential_stiffness_ratio")) law.tangential_stiffness_ratio = v->positive();
       if (auto v = c.optional("tangential_damping_ratio")) law.tangential_damping_ratio = v->non_negative();
+      if (auto v = c.optional("conduction")) law.conduction = read_conduction(*v);
+      if (law.conduction == thermal::ConductionModel::constant) law.conductance = c["conductance"].positive();
+      if (auto v = c.optional("softened_modulus_ratio")) law.modulus_ratio = v->in_range(0, 1, true, false);
+      if (auto v = c.optional("contact_resistance")) law.contact_resistance = v->non_negative();
       scene.laws[a * nm + b] = scene.laws[b * nm + a] = law;
       law_location[a * nm + b] = law_location[b * nm + a] = c.location();
     }
@@ -140,7 +165,8 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
                     std::vector<Location>& set_location, std::vector<int>& set_of) {
   int set = 0;
   for (const SceneNode& ps : root["particles"].items()) {
-    ps.allow({"material", "radius", "velocity", "random_velocity", "angular_velocity", "at", "fill", "lattice"});
+    ps.allow({"material", "radius", "velocity", "random_velocity", "angular_velocity", "temperature", "at", "fill",
+              "lattice"});
     const int mat = index.find(ps["material"]);
     if (!(scene.materials[mat].density > 0)) ps["material"].fail("this material needs a density to make particles");
     const int ways = ps.has("at") + ps.has("fill") + ps.has("lattice");
@@ -184,7 +210,22 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
       jitter = (*rv)["max"].positive();
       velocity_rng = Random(static_cast<uint64_t>(rv->has("seed") ? (*rv)["seed"].integer(0) : 1));
     }
+    // temperature: T, or {x_split: x, left: T1, right: T2} (a hot half and a cold half).
+    const auto temp = ps.optional("temperature");
+    double t_left = NAN, t_right = NAN, x_split = INFINITY;
+    if (temp && temp->is_map()) {
+      temp->allow({"x_split", "left", "right"});
+      x_split = (*temp)["x_split"].number();
+      t_left = (*temp)["left"].number();
+      t_right = (*temp)["right"].number();
+    } else if (temp) {
+      t_left = t_right = temp->number();
+    }
+    if (scene.thermal != static_cast<bool>(temp) && !scene.position.empty())
+      ps.fail("either every particle set gives a temperature (a thermal scene) or none does");
+    scene.thermal = static_cast<bool>(temp);
     for (size_t k = 0; k < placed.radius.size(); ++k) {
+      if (temp) scene.temperature.push_back(placed.position[k].x < x_split ? t_left : t_right);
       scene.position.push_back(placed.position[k]);
       scene.radius.push_back(placed.radius[k]);
       Vec2 v = velocity;
@@ -219,16 +260,43 @@ WallMotion read_motion(const SceneNode& m) {
   return motion;
 }
 
+// temperature: T (isothermal), {steps: [[t0, T0], [t1, T1], ...]} (T_k from t_k on), or
+// {ramp: [[t0, T0], ...]} (linear between the points, held beyond them).
+thermal::WallTemperature read_wall_temperature(const SceneNode& node) {
+  thermal::WallTemperature wt;
+  if (!node.is_map()) {
+    wt.kind = thermal::WallTemperature::Kind::steps;
+    wt.times = {0};
+    wt.values = {node.number()};
+    return wt;
+  }
+  node.allow({"steps", "ramp"});
+  if (node.has("steps") == node.has("ramp")) node.fail("give one of 'steps' or 'ramp'");
+  const bool steps = node.has("steps");
+  wt.kind = steps ? thermal::WallTemperature::Kind::steps : thermal::WallTemperature::Kind::ramp;
+  const SceneNode list = node[steps ? "steps" : "ramp"];
+  for (const SceneNode& point : list.items()) {
+    const Vec2 tv = point.vec2();
+    if (!wt.times.empty() && tv.x <= wt.times.back()) point.fail("times must increase");
+    wt.times.push_back(tv.x);
+    wt.values.push_back(tv.y);
+  }
+  if (wt.times.empty()) list.fail("expected at least one [time, temperature] point");
+  return wt;
+}
+
 void read_walls(const SceneNode& root, Scene& scene, const MaterialIndex& index) {
   const auto walls = root.optional("walls");
   if (!walls) return;
   for (const SceneNode& w : walls->items()) {
-    w.allow({"name", "material", "motion", "segment", "polyline", "box", "circle", "arc", "closed", "tolerance"});
+    w.allow({"name", "material", "motion", "temperature", "segment", "polyline", "box", "circle", "arc", "closed",
+             "tolerance"});
     Wall wall;
     const int id = static_cast<int>(scene.walls.size());
     wall.name = w.has("name") ? w["name"].text() : "wall" + std::to_string(id);
     wall.material = index.find(w["material"]);
     if (auto m = w.optional("motion")) wall.motion = read_motion(*m);
+    if (auto t = w.optional("temperature")) wall.temperature = read_wall_temperature(*t);
     const int shapes = w.has("segment") + w.has("polyline") + w.has("box") + w.has("circle") + w.has("arc");
     if (shapes != 1) w.fail("give exactly one shape: segment, polyline, box, circle or arc");
     const double tolerance = w.has("tolerance") ? w["tolerance"].positive() : 1e-5;
@@ -274,9 +342,12 @@ void read_walls(const SceneNode& root, Scene& scene, const MaterialIndex& index)
 // A pair law that will be used must have what its model needs.
 void check_laws(const Scene& scene, const std::vector<Location>& law_location) {
   const int nm = scene.n_materials();
-  std::vector<bool> used(nm, false), wall_used(nm, false);
+  std::vector<bool> used(nm, false), wall_used(nm, false), wall_conducts(nm, false);
   for (int m : scene.material) used[m] = true;
-  for (const Wall& w : scene.walls) wall_used[w.material] = true;
+  for (const Wall& w : scene.walls) {
+    wall_used[w.material] = true;
+    wall_conducts[w.material] = wall_conducts[w.material] || w.temperature.isothermal();
+  }
   for (int a = 0; a < nm; ++a)
     for (int b = 0; b < nm; ++b) {
       if (!used[a] || !(used[b] || wall_used[b])) continue;
@@ -288,6 +359,17 @@ void check_laws(const Scene& scene, const std::vector<Location>& law_location) {
       if (law.model == NormalModel::hertz && !(law.effective_modulus > 0))
         throw InputError(law_location[a * nm + b],
                          "the Hertz contact between " + pair + " needs youngs_modulus on both materials");
+      if (!scene.thermal || law.conduction == thermal::ConductionModel::none ||
+          law.conduction == thermal::ConductionModel::constant)
+        continue;
+      if (!used[b] && !wall_conducts[b]) continue;
+      if (!(scene.materials[a].conductivity > 0 && scene.materials[b].conductivity > 0))
+        throw InputError(law_location[a * nm + b], "conduction between " + pair + " needs 'conductivity' on both materials");
+      if (law.conduction == thermal::ConductionModel::hertz && !(law.effective_modulus > 0))
+        throw InputError(law_location[a * nm + b],
+                         "Hertz conduction between " + pair + " needs youngs_modulus on both materials");
+      if (law.conduction == thermal::ConductionModel::pipe_network && scene.mass_model != MassModel::cylinder)
+        throw InputError(law_location[a * nm + b], "pipe_network conduction is for cylinders: set mass_model: cylinder");
     }
 }
 
@@ -316,6 +398,41 @@ void check_overlaps(const SceneNode& root, const Scene& scene, const std::vector
   }
 }
 
+void read_heat(const SceneNode& root, Scene& scene) {
+  if (auto h = root.optional("heat_from_dissipation")) {
+    const std::string mode = h->choice({"none", "friction", "all"});
+    scene.heat_from_dissipation = mode == "all"        ? HeatFromDissipation::all
+                                  : mode == "friction" ? HeatFromDissipation::friction
+                                                       : HeatFromDissipation::none;
+  }
+  if (auto m = root.optional("mechanics")) scene.frozen = m->choice({"dynamic", "frozen"}) == "frozen";
+  if (auto f = root.optional("freeze")) {
+    f->allow({"kinetic_energy_below", "not_before", "latest", "dt", "output_interval"});
+    scene.freeze.enabled = true;
+    scene.freeze.kinetic_energy_below = (*f)["kinetic_energy_below"].positive();
+    scene.freeze.not_before = f->number_or("not_before", 0);
+    if (auto l = f->optional("latest")) scene.freeze.latest = l->positive();
+    scene.freeze.dt = (*f)["dt"].positive();
+    if (auto o = f->optional("output_interval")) scene.freeze.output_interval = o->positive();
+  }
+  if (scene.thermal) {
+    for (int i = 0; i < scene.n_particles(); ++i) {
+      const Material& m = scene.materials[scene.material[i]];
+      if (!(m.specific_heat > 0 && m.conductivity > 0))
+        root["materials"][m.name].fail("particles of a thermal scene need specific_heat and conductivity");
+    }
+    return;
+  }
+  const char* needs_heat = root.has("heat_from_dissipation") ? "heat_from_dissipation"
+                           : root.has("freeze")              ? "freeze"
+                                                             : nullptr;
+  if (needs_heat) root[needs_heat].fail("this scene carries no temperatures (give particle sets a 'temperature')");
+  if (scene.frozen) root["mechanics"].fail("mechanics: frozen leaves nothing to integrate without temperatures");
+  for (size_t w = 0; w < scene.walls.size(); ++w)
+    if (scene.walls[w].temperature.isothermal())
+      root["walls"].items()[w]["temperature"].fail("this scene carries no temperatures (give particle sets a 'temperature')");
+}
+
 }  // namespace
 
 Scene parse_scene(const std::string& text, const std::string& file, const std::vector<std::string>& overrides) {
@@ -329,8 +446,8 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   const auto overridden = std::make_shared<const std::set<std::string>>(apply_overrides(doc, overrides));
   const SceneNode root(doc, "", file, overridden);
   root.allow({"name", "description", "mass_model", "thickness", "gravity", "materials", "contact_model", "contacts",
-              "particles", "walls", "integrator", "dt", "t_end", "output_interval", "skin", "allow_overlap", "checks",
-              "stop", "report"});
+              "conduction_model", "heat_from_dissipation", "mechanics", "freeze", "particles", "walls", "integrator", "dt",
+              "t_end", "output_interval", "skin", "allow_overlap", "checks", "stop", "report"});
   Scene scene;
   scene.file = file;
   scene.name = root["name"].text();
@@ -356,6 +473,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   std::vector<int> set_of;
   read_particles(root, scene, index, set_location, set_of);
   read_walls(root, scene, index);
+  read_heat(root, scene);
   check_laws(scene, law_location);
   check_overlaps(root, scene, set_location, set_of);
 

@@ -1,5 +1,6 @@
 #include "src/simulation.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include "src/outputs.h"
 #include "src/progress.h"
 #include "src/stability.h"
+#include "thermal/frozen_conduction.h"
 
 namespace kiln {
 
@@ -25,7 +27,7 @@ class OutputFiles {
   OutputFiles(const std::string& dir, const DemSystem& sys, const Scene& scene) : dir_(dir), sys_(sys) {
     if (dir_.empty()) return;
     std::filesystem::create_directories(dir_);
-    h5_ = std::make_unique<H5Frames>(path("result.h5.tmp"), sys.particles());
+    h5_ = std::make_unique<H5Frames>(path("result.h5.tmp"), sys.particles(), sys.thermal());
     h5_->attribute("scene", scene.name);
     h5_->attribute("integrator", scene.integrator);
     h5_->attribute("dt", scene.dt);
@@ -44,25 +46,26 @@ class OutputFiles {
     times_.push_back(t);
     if (!h5_) return;
     h5_->append(t, y + sys_.x_at(), y + sys_.y_at(), y + sys_.vx_at(), y + sys_.vy_at(),
-                sys_.rotates() ? y + sys_.angle_at() : nullptr, sys_.rotates() ? y + sys_.omega_at() : nullptr);
+                sys_.rotates() ? y + sys_.angle_at() : nullptr, sys_.rotates() ? y + sys_.omega_at() : nullptr,
+                sys_.thermal() ? y + sys_.temperature_at() : nullptr);
   }
   void finish(double t, const double* y, const nlohmann::json& summary) {
     if (!h5_) return;
     h5_->close();
     std::filesystem::rename(path("result.h5.tmp"), path("result.h5"));
-    write_file_atomically(path("result.xdmf"), xdmf_document("result.h5", sys_.particles(), times_));
+    write_file_atomically(path("result.xdmf"), xdmf_document("result.h5", sys_.particles(), times_, sys_.thermal()));
     write_file_atomically(path("summary.json"), summary.dump(2) + "\n");
     PictureInput pic;
     for (int i = 0; i < sys_.particles(); ++i) {
       pic.centre.push_back({y[sys_.x_at() + i], y[sys_.y_at() + i]});
       pic.radius.push_back(sys_.radius(i));
-      pic.value.push_back(std::hypot(y[sys_.vx_at() + i], y[sys_.vy_at() + i]));
+      pic.value.push_back(sys_.thermal() ? y[sys_.temperature_at() + i]
+                                         : std::hypot(y[sys_.vx_at() + i], y[sys_.vy_at() + i]));
     }
-    pic.value_label = "speed (m/s)";
+    pic.value_label = sys_.thermal() ? "temperature" : "speed (m/s)";
     sys_.wall_geometry(t, pic.wall_a, pic.wall_b);
     std::ostringstream title;
-    title << sys_.scene().name << "  t = " << t << " s  (" << sys_.scene().integrator << ", dt = " << sys_.scene().dt
-          << " s)";
+    title << sys_.scene().name << "  t = " << t << " s  (" << sys_.scene().integrator << ")";
     pic.title = title.str();
     write_picture(path("picture.png"), pic);
     done_ = true;
@@ -81,7 +84,22 @@ class OutputFiles {
 class StabilityGuard {
  public:
   StabilityGuard(const Scene& scene, const DemSystem& sys, const EnergyLedger& initial)
-      : scene_(scene), sys_(sys), initial_(initial), estimate_(estimate_stability(scene)) {}
+      : scene_(scene), sys_(sys), initial_(initial), estimate_(estimate_stability(scene)) {
+    // Without heat sources conduction obeys a maximum principle: no temperature leaves the range
+    // of the initial and wall temperatures. A violation beyond 1 % of the range is instability.
+    if (scene.thermal && scene.heat_from_dissipation == HeatFromDissipation::none) {
+      low_ = *std::min_element(scene.temperature.begin(), scene.temperature.end());
+      high_ = *std::max_element(scene.temperature.begin(), scene.temperature.end());
+      for (const Wall& w : scene.walls)
+        for (double v : w.temperature.values) {
+          low_ = std::min(low_, v);
+          high_ = std::max(high_, v);
+        }
+      const double margin = 0.01 * (high_ - low_) + 1e-9;
+      low_ -= margin;
+      high_ += margin;
+    }
+  }
   void every_step(double t) const {
     if (sys_.max_overlap_fraction() > scene_.max_overlap_fraction) {
       std::ostringstream s;
@@ -93,13 +111,24 @@ class StabilityGuard {
   void finite(double t, const double* y, int size) const {
     for (int k = 0; k < size; ++k)
       if (!std::isfinite(y[k])) fail(t, "the state holds NaN or infinity (component " + std::to_string(k) + ")");
+    if (!sys_.thermal() || !(high_ > low_)) return;
+    for (int i = 0; i < sys_.particles(); ++i) {
+      const double temp = y[sys_.temperature_at() + i];
+      if (temp < low_ || temp > high_) {
+        std::ostringstream s;
+        s << "temperature of particle " << i << " is " << temp << ", outside the range of the initial and wall "
+          << "temperatures [" << low_ << ", " << high_ << "] (maximum principle of conduction)";
+        fail(t, s.str());
+      }
+    }
   }
   // Energy blow-up: the ledger's error exceeds a quarter of all the energy that has changed form.
   void energy(double t, const EnergyLedger& now) const {
     const double throughput = std::abs(initial_.kinetic) + std::abs(now.kinetic) + std::abs(initial_.elastic) +
                               std::abs(now.elastic) + std::abs(now.potential - initial_.potential) +
                               std::abs(now.dissipated_damping) + std::abs(now.dissipated_friction) +
-                              std::abs(now.work_by_walls);
+                              std::abs(now.work_by_walls) + std::abs(now.thermal - initial_.thermal) +
+                              std::abs(now.heat_from_walls);
     const double error = balance_error(initial_, now);
     if (throughput > 0 && error > 0.25 * throughput) {
       std::ostringstream s;
@@ -109,23 +138,36 @@ class StabilityGuard {
     }
   }
   const StabilityEstimate& estimate() const { return estimate_; }
+  void set_stage(double dt, bool heat_only) {
+    dt_ = dt;
+    heat_only_ = heat_only;
+  }
 
  private:
   [[noreturn]] void fail(double t, const std::string& what) const {
     std::ostringstream s;
-    s << "unstable run at t = " << t << " s: " << what << ". dt = " << scene_.dt
-      << " s; the stability estimate recommends dt <= " << estimate_.recommended_dt << " s (contact duration "
-      << estimate_.contact_duration << " s, " << estimate_.shortest_pair << "; limit " << estimate_.dt_limit << " s)";
+    s << "unstable run at t = " << t << " s: " << what << ". dt = " << dt_ << " s; ";
+    if (heat_only_)
+      s << "explicit conduction is stable below dt = " << estimate_.thermal_dt_limit << " s";
+    else
+      s << "the stability estimate recommends dt <= " << estimate_.recommended_dt << " s (contact duration "
+        << estimate_.contact_duration << " s, " << estimate_.shortest_pair << "; limit " << estimate_.dt_limit << " s"
+        << (std::isfinite(estimate_.thermal_dt_limit)
+                ? "; conduction limit " + std::to_string(estimate_.thermal_dt_limit) + " s)"
+                : std::string(")"));
     throw InstabilityError(s.str());
   }
   const Scene& scene_;
   const DemSystem& sys_;
   EnergyLedger initial_;
   StabilityEstimate estimate_;
+  double low_ = 0, high_ = 0;
+  double dt_ = 0;
+  bool heat_only_ = false;
 };
 
-nlohmann::json ledger_json(const EnergyLedger& e, const EnergyLedger& initial) {
-  return {{"kinetic", e.kinetic},
+nlohmann::json ledger_json(const EnergyLedger& e, const EnergyLedger& initial, bool thermal) {
+  nlohmann::json j = {{"kinetic", e.kinetic},
           {"potential", e.potential},
           {"elastic", e.elastic},
           {"dissipated_damping", e.dissipated_damping},
@@ -133,6 +175,13 @@ nlohmann::json ledger_json(const EnergyLedger& e, const EnergyLedger& initial) {
           {"work_by_walls", e.work_by_walls},
           {"initial_total", initial.total()},
           {"balance_error", balance_error(initial, e)}};
+  if (thermal) {
+    j["thermal"] = e.thermal;
+    j["thermal_change"] = e.thermal - initial.thermal;
+    j["heat_from_walls"] = e.heat_from_walls;
+    j["heat_from_dissipation"] = e.heat_from_dissipation;
+  }
+  return j;
 }
 
 }  // namespace
@@ -141,15 +190,16 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   const auto wall_start = std::chrono::steady_clock::now();
   DemSystem system(scene);
   std::vector<double> y = system.initial_state();
-  std::unique_ptr<Integrator> integrator = make_integrator(scene.integrator);
   std::vector<std::unique_ptr<Observer>> observers;
   for (const std::string& name : scene.report) observers.push_back(make_observer(name, system));
 
-  // Whole steps only: t_k = k dt, so no drift from summing dt.
-  const long steps = std::max(1L, std::lround(std::ceil(scene.t_end / scene.dt - 1e-9)));
-  const long frame_every = std::max(1L, std::lround(scene.output_interval / scene.dt));
-
-  integrator->start(system, 0.0, y.data(), scene.dt);
+  // The mechanical stage (skipped in a thermal-only scene): the full state, at dt.
+  std::unique_ptr<Integrator> integrator = make_integrator(scene.integrator);
+  if (scene.frozen) {
+    system.prepare(0, y.data(), 0);
+  } else {
+    integrator->start(system, 0.0, y.data(), scene.dt);
+  }
   const EnergyLedger initial = system.energy(0, y.data());
   StabilityGuard guard(scene, system, initial);
   OutputFiles files(options.out_dir, system, scene);
@@ -167,31 +217,69 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   };
   count_contacts(0);
 
-  long k = 0;
-  double t = 0;
-  bool stopped_early = false;
-  while (k < steps) {
-    integrator->step();
-    ++k;
-    t = k * scene.dt;
-    guard.every_step(t);
-    for (auto& o : observers) o->sample(t, y.data());
-    if (k % frame_every == 0 || k == steps) {
-      guard.finite(t, y.data(), system.layout().size());
-      const EnergyLedger now = system.energy(t, y.data());
-      guard.energy(t, now);
-      history_time.push_back(t);
-      history_error.push_back(balance_error(initial, now));
-      files.frame(t, y.data());
-      count_contacts(t);
-      progress.update(t, steps * scene.dt);
-      if (scene.stop_kinetic_energy > 0 && t >= scene.stop_not_before && now.kinetic < scene.stop_kinetic_energy) {
-        stopped_early = k < steps;
-        break;
+  enum class Ended { at_end, at_rest, frozen };
+  long total_steps = 0, total_rhs = 0;
+  // Steps one stage from t0 with step dt to t_end: whole steps, t_k = t0 + k dt, no drift.
+  auto run_stage = [&](Integrator& stepper, double t0, double dt, double interval, bool mechanics, double& t) {
+    const long steps = std::max(1L, std::lround(std::ceil((scene.t_end - t0) / dt - 1e-9)));
+    const long frame_every = std::max(1L, std::lround(interval / dt));
+    guard.set_stage(dt, !mechanics);
+    for (long k = 1; k <= steps; ++k) {
+      stepper.step();
+      t = t0 + k * dt;
+      if (mechanics) guard.every_step(t);
+      for (auto& o : observers) o->sample(t, y.data());
+      if (k % frame_every == 0 || k == steps) {
+        guard.finite(t, y.data(), system.layout().size());
+        const EnergyLedger now = system.energy(t, y.data());
+        guard.energy(t, now);
+        history_time.push_back(t);
+        history_error.push_back(balance_error(initial, now));
+        files.frame(t, y.data());
+        count_contacts(t);
+        progress.update(t, scene.t_end);
+        if (mechanics && scene.stop_kinetic_energy > 0 && t >= scene.stop_not_before &&
+            now.kinetic < scene.stop_kinetic_energy)
+          return k < steps ? Ended::at_rest : Ended::at_end;
+        if (mechanics && scene.freeze.enabled && k < steps &&
+            ((t >= scene.freeze.not_before && now.kinetic < scene.freeze.kinetic_energy_below) ||
+             t >= scene.freeze.latest))
+          return Ended::frozen;
+      } else if (k % 64 == 0) {
+        guard.finite(t, y.data(), system.layout().size());
       }
-    } else if (k % 64 == 0) {
-      guard.finite(t, y.data(), system.layout().size());
     }
+    return Ended::at_end;
+  };
+
+  double t = 0, frozen_at = NAN;
+  Ended ended = Ended::frozen;
+  if (!scene.frozen) {
+    ended = run_stage(*integrator, 0, scene.dt, scene.output_interval, true, t);
+    total_steps += integrator->stats().steps;
+    total_rhs += integrator->stats().rhs_evals;
+  }
+  if (ended == Ended::frozen) {
+    // Freeze: the residual kinetic energy is removed (booked as dissipated), the conductances of
+    // the contact network are fixed, and only the temperatures are integrated from here on.
+    frozen_at = t;
+    const EnergyLedger before = system.energy(t, y.data());
+    for (int k = system.vx_at(); k < system.ledger_at(); ++k) y[k] = 0;
+    y[system.ledger_at() + ledger_damping] += before.kinetic;
+    std::vector<thermal::WallTemperature> walls;
+    for (const Wall& w : scene.walls) walls.push_back(w.temperature);
+    std::vector<double> capacity;
+    for (int i = 0; i < system.particles(); ++i) capacity.push_back(system.heat_capacity(i));
+    thermal::FrozenConduction heat(system.conduction_links(t, y.data()), capacity, walls, system.ledger_count());
+    const double dt = scene.frozen ? scene.dt : scene.freeze.dt;
+    const double interval = scene.frozen ? scene.output_interval
+                            : scene.freeze.output_interval > 0 ? scene.freeze.output_interval
+                                                               : (scene.t_end - t) / 100;
+    std::unique_ptr<Integrator> heat_stepper = make_integrator(scene.integrator);
+    heat_stepper->start(heat, t, y.data() + system.ledger_at(), dt);
+    if (t < scene.t_end) ended = run_stage(*heat_stepper, t, dt, interval, false, t);
+    total_steps += heat_stepper->stats().steps;
+    total_rhs += heat_stepper->stats().rhs_evals;
   }
   progress.finish();
   const EnergyLedger final_energy = system.energy(t, y.data());
@@ -202,22 +290,29 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   summary["integrator"] = scene.integrator;
   summary["dt"] = scene.dt;
   summary["t_end"] = t;
-  summary["stopped_early"] = stopped_early;
-  summary["steps"] = integrator->stats().steps;
-  summary["rhs_evals"] = integrator->stats().rhs_evals;
+  summary["stopped_early"] = ended == Ended::at_rest;
+  summary["frozen_at"] = std::isfinite(frozen_at) ? nlohmann::json(frozen_at) : nlohmann::json(nullptr);
+  summary["steps"] = total_steps;
+  summary["rhs_evals"] = total_rhs;
   summary["wall_seconds"] = wall_seconds;
-  summary["particle_steps_per_second"] = system.particles() * static_cast<double>(k) / wall_seconds;
+  summary["particle_steps_per_second"] = system.particles() * static_cast<double>(total_steps) / wall_seconds;
   summary["particles"] = system.particles();
   summary["rotation"] = system.rotates();
+  summary["thermal"] = system.thermal();
   summary["mean_contacts"] = contacts_sum / contact_samples;
   summary["neighbour_rebuilds"] = system.rebuilds();
   summary["skin"] = system.skin();
-  summary["energy"] = ledger_json(final_energy, initial);
+  summary["energy"] = ledger_json(final_energy, initial, system.thermal());
   summary["energy"]["history"] = {{"time", history_time}, {"balance_error", history_error}};
-  summary["stability"] = {{"contact_duration", guard.estimate().contact_duration},
-                          {"shortest_pair", guard.estimate().shortest_pair},
-                          {"dt_limit", guard.estimate().dt_limit},
-                          {"recommended_dt", guard.estimate().recommended_dt}};
+  const StabilityEstimate& est = guard.estimate();
+  summary["stability"] = {{"contact_duration", est.contact_duration},
+                          {"shortest_pair", est.shortest_pair},
+                          {"dt_limit", est.dt_limit},
+                          {"recommended_dt", est.recommended_dt}};
+  if (system.thermal()) {
+    summary["stability"]["thermal_dt_limit"] = est.thermal_dt_limit;
+    summary["stability"]["thermal_relaxation_time"] = est.thermal_relaxation_time;
+  }
   summary["kiln_version"] = KILN_VERSION;
   for (auto& o : observers) o->report(t, y.data(), summary);
   files.finish(t, y.data(), summary);

@@ -6,6 +6,7 @@
 
 #include "contact/normal_force.h"
 #include "src/dem_system.h"
+#include "thermal/frozen_conduction.h"
 
 namespace kiln {
 
@@ -32,6 +33,42 @@ double impact_speed(const Scene& scene) {
       wall_speed = std::max({wall_speed, std::abs(m.omega) * norm(s.a - m.centre), std::abs(m.omega) * norm(s.b - m.centre)});
   }
   return v0 + std::sqrt(2 * g * std::max(0.0, hi - lo)) + wall_speed;
+}
+
+void thermal_estimate(const Scene& scene, const std::vector<double>& rmin, const std::vector<int>& count,
+                      StabilityEstimate& est) {
+  DemSystem system(scene);
+  const std::vector<double> y = system.initial_state();
+  system.prepare(0, y.data(), 0);
+  std::vector<double> capacity;
+  for (int i = 0; i < system.particles(); ++i) capacity.push_back(system.heat_capacity(i));
+  const thermal::FrozenConduction network(system.conduction_links(0, y.data()), capacity, {}, system.ledger_count());
+  double lambda = network.stiffest_rate();
+  est.thermal_dt_limit_network = lambda > 0 ? 2 / lambda : INFINITY;
+  if (!scene.frozen) {
+    // Dense packing of the smallest particles of each material pair at 1 % overlap.
+    const int nm = scene.n_materials();
+    for (int a = 0; a < nm; ++a)
+      for (int b = 0; b < nm; ++b) {
+        if (!count[a] || !count[b]) continue;
+        const PairLaw& law = scene.law(a, b);
+        const double ra = rmin[a], rb = rmin[b], overlap = 0.01 * std::min(ra, rb);
+        const double k = law.model == NormalModel::hertz
+                             ? 4.0 / 3.0 * law.effective_modulus * std::sqrt(ra * rb / (ra + rb))
+                             : law.stiffness;
+        const double fn = contact::normal_force({k, 0, law.model == NormalModel::hertz, true}, overlap, 0);
+        const Material &ma = scene.materials[a], &mb = scene.materials[b];
+        const thermal::ConductionLaw cl{law.conduction, ma.conductivity, mb.conductivity, law.conductance,
+                                        law.modulus_ratio, law.effective_modulus, scene.thickness, law.contact_resistance};
+        const double h = thermal::conductance(cl, ra, rb, ra + rb - overlap, fn);
+        const double c = disc_mass(scene, ra, ma.density) * ma.specific_heat;
+        lambda = std::max(lambda, 2 * 6 * h / c);
+      }
+  }
+  if (lambda > 0) {
+    est.thermal_dt_limit = 2 / lambda;
+    est.thermal_relaxation_time = 1 / lambda;
+  }
 }
 
 }  // namespace
@@ -90,12 +127,34 @@ StabilityEstimate estimate_stability(const Scene& scene) {
     }
   }
   est.recommended_dt = est.contact_duration / 50;
+  if (scene.thermal) thermal_estimate(scene, rmin, count, est);
   return est;
 }
 
-DtVerdict judge_dt(const StabilityEstimate& est, double dt) {
+DtVerdict judge_dt(const StabilityEstimate& est, double dt, const Scene& scene) {
   DtVerdict v;
   std::ostringstream s;
+  // Explicit conduction: certain for the network that exists at t = 0, an estimate otherwise.
+  if (scene.thermal && dt >= est.thermal_dt_limit_network) {
+    s << "dt = " << dt << " s is beyond the explicit conduction limit " << est.thermal_dt_limit_network
+      << " s of the contact network: the temperatures will blow up";
+    v.unstable = true;
+    v.warnings.push_back(s.str());
+    return v;
+  }
+  if (scene.thermal && dt >= est.thermal_dt_limit) {
+    std::ostringstream w;
+    w << "dt = " << dt << " s is beyond the explicit conduction limit " << est.thermal_dt_limit
+      << " s of a dense packing at 1 % overlap: the temperatures may blow up once contacts form";
+    v.warnings.push_back(w.str());
+  }
+  if (scene.thermal && scene.freeze.enabled && scene.freeze.dt >= est.thermal_dt_limit) {
+    std::ostringstream w;
+    w << "freeze.dt = " << scene.freeze.dt << " s is beyond the explicit conduction limit " << est.thermal_dt_limit
+      << " s of a dense packing at 1 % overlap";
+    v.warnings.push_back(w.str());
+  }
+  if (scene.frozen) return v;  // no mechanics to judge
   if (dt >= est.dt_limit) {
     s << "dt = " << dt << " s is beyond the stability limit " << est.dt_limit
       << " s of the stiffest contact: the run will blow up";

@@ -96,7 +96,7 @@ TEST_CASE("the same scene and options give bit-identical result.h5 data", "[outp
 TEST_CASE("a step beyond the stability limit stops with the failed check, the time and the advised dt", "[stability]") {
   const Scene scene = load_scene(testing::case_path("t1_free_fall.yaml"), {"dt=5e-4", "t_end=0.2"});
   const StabilityEstimate est = estimate_stability(scene);
-  CHECK(judge_dt(est, scene.dt).unstable);  // kiln check and kiln run refuse it up front
+  CHECK(judge_dt(est, scene.dt, scene).unstable);  // kiln check and kiln run refuse it up front
   const fs::path dir = fresh_dir("unstable");
   try {
     run_scene(scene, {dir.string(), true});
@@ -121,9 +121,9 @@ TEST_CASE("stability estimate: linear contact duration and the central-differenc
   CHECK(est.contact_duration == Approx(M_PI * std::sqrt(m / 6000)));
   CHECK(est.dt_limit == Approx(2 * std::sqrt(m / 6000)));
   CHECK(est.recommended_dt == Approx(est.contact_duration / 50));
-  CHECK(judge_dt(est, 1e-6).warnings.empty());
-  CHECK_FALSE(judge_dt(est, 1e-4).unstable);
-  CHECK(judge_dt(est, 1e-4).warnings.size() == 1);  // 7 steps per contact: warned, not refused
+  CHECK(judge_dt(est, 1e-6, scene).warnings.empty());
+  CHECK_FALSE(judge_dt(est, 1e-4, scene).unstable);
+  CHECK(judge_dt(est, 1e-4, scene).warnings.size() == 1);  // 7 steps per contact: warned, not refused
 }
 
 TEST_CASE("a frictionless scene integrates no rotation, while friction adds angles and spins", "[state]") {

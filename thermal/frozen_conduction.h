@@ -1,0 +1,37 @@
+// Heat alone on a frozen contact network: positions and contact forces are fixed, so every
+// conductance is a constant and the right-hand side is a sparse graph Laplacian,
+//   C_i dT_i/dt = sum_j H_ij (T_j - T_i) + sum_walls H_iw (T_w(t) - T_i).
+// This is what makes long heating (minutes at steps of milliseconds or more) feasible where the
+// mechanical step would need ~1e9 steps. Its state is only the first-order part z of the full
+// state (the ledger, then the temperatures): the integrator is given a pointer into the full
+// state vector, so positions stay where they are and nothing is copied.
+#pragma once
+#include <vector>
+
+#include "integrators/integrator.h"
+#include "src/dem_system.h"
+#include "thermal/wall_temperature.h"
+
+namespace kiln::thermal {
+
+class FrozenConduction final : public OdeSystem {
+ public:
+  FrozenConduction(std::vector<ConductanceLink> links, std::vector<double> capacity,
+                   std::vector<WallTemperature> walls, int ledger_entries);
+  StateLayout layout() const override { return {0, ledger_ + static_cast<int>(inv_capacity_.size())}; }
+  void prepare(double, const double*, double) override {}
+  void derivative(double t, const double* z, double* zdot) override;
+  void accept(double) override {}
+
+  // Largest |eigenvalue| bound of C^-1 L (Gershgorin): explicit stepping is stable below 2 / it.
+  double stiffest_rate() const;
+  const std::vector<ConductanceLink>& links() const { return links_; }
+
+ private:
+  std::vector<ConductanceLink> links_;
+  std::vector<double> inv_capacity_;
+  std::vector<WallTemperature> walls_;
+  int ledger_;
+};
+
+}  // namespace kiln::thermal
