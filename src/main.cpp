@@ -46,24 +46,26 @@ void add_scene_options(CLI::App* cmd, SceneArgs& a) {
 int check(const SceneArgs& a) {
   const kiln::Scene scene = load(a);
   const kiln::StabilityEstimate est = kiln::estimate_stability(scene);
-  std::printf("scene %s: %d particles, %zu wall segments, integrator %s\n", scene.name.c_str(), scene.n_particles(),
-              scene.segments.size(), scene.integrator.c_str());
-  std::printf("  shortest contact duration  %.4g s (%s)\n", est.contact_duration, est.shortest_pair.c_str());
-  std::printf("  stability limit of dt      %.4g s (central difference on the stiffest contact)\n", est.dt_limit);
-  if (std::isfinite(est.rayleigh))
-    std::printf("  Rayleigh time step         %.4g s (smallest particle)\n", est.rayleigh);
-  else
-    std::printf("  Rayleigh time step         n/a (no youngs_modulus given)\n");
-  std::printf("  recommended dt             %.4g s (contact duration / 50)\n", est.recommended_dt);
+  std::printf("scene %s: %d particles, %zu wall segments, integrator %s, dt %.4g s\n", scene.name.c_str(),
+              scene.n_particles(), scene.segments.size(), scene.integrator.c_str(), scene.dt);
+  if (scene.frozen) {
+    std::printf("  mechanics frozen: no mechanical time step\n");
+  } else {
+    std::printf("  shortest contact duration  %.4g s (%s); dt is 1/%.1f of it\n", est.contact_duration,
+                est.shortest_pair.c_str(), est.contact_duration / scene.dt);
+    std::printf("  stability limit of dt      %.4g s (central difference on the stiffest contact)\n", est.dt_limit);
+    if (std::isfinite(est.rayleigh))
+      std::printf("  Rayleigh time step         %.4g s (smallest particle); dt is %.1f %% of it\n", est.rayleigh,
+                  100 * scene.dt / est.rayleigh);
+    else
+      std::printf("  Rayleigh time step         n/a (no youngs_modulus given)\n");
+    std::printf("  recommended dt             %.4g s (contact duration / 50)\n", est.recommended_dt);
+  }
   if (scene.thermal) {
     std::printf("  explicit conduction limit  %.4g s (contact network at t = 0)", est.thermal_dt_limit_network);
     if (!scene.frozen) std::printf(", %.4g s (dense packing at 1 %% overlap)", est.thermal_dt_limit);
     std::printf("\n  thermal relaxation time    %.4g s (fastest mode, 1 / lambda_max)\n", est.thermal_relaxation_time);
   }
-  std::printf("  chosen dt                  %.4g s = 1/%.1f of the contact duration", scene.dt,
-              est.contact_duration / scene.dt);
-  if (std::isfinite(est.rayleigh)) std::printf(", %.1f %% of the Rayleigh step", 100 * scene.dt / est.rayleigh);
-  std::printf("\n");
   const kiln::DtVerdict verdict = kiln::judge_dt(est, scene.dt, scene);
   for (const std::string& w : verdict.warnings)
     std::fprintf(stderr, "%s: %s\n", verdict.unstable ? "error" : "warning", w.c_str());

@@ -114,6 +114,45 @@ class HeapObserver final : public Observer {
   const DemSystem& sys_;
 };
 
+// Temperatures at the end (thermal cases): mean, extremes, heat content sum C_i T_i, the means of
+// the particles left and right of x = 0 (Lethe L1), and the least-squares line T = A x + B with its
+// rms residual (Lethe L2, the slab and chain cases).
+class TemperatureObserver final : public Observer {
+ public:
+  explicit TemperatureObserver(const DemSystem& sys) : sys_(sys) {}
+  void sample(double, const double*) override {}
+  void report(double, const double* y, nlohmann::json& out) override {
+    const int n = sys_.particles();
+    const double* temp = y + sys_.temperature_at();
+    const double* px = y + sys_.x_at();
+    double mean = 0, heat = 0, left = 0, right = 0, nl = 0, nr = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+    for (int i = 0; i < n; ++i) {
+      mean += temp[i] / n;
+      heat += sys_.heat_capacity(i) * temp[i];
+      (px[i] < 0 ? left : right) += temp[i];
+      (px[i] < 0 ? nl : nr) += 1;
+      sx += px[i];
+      sy += temp[i];
+      sxx += px[i] * px[i];
+      sxy += px[i] * temp[i];
+    }
+    const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx), intercept = (sy - slope * sx) / n;
+    double residual = 0;
+    for (int i = 0; i < n; ++i) residual += std::pow(temp[i] - (slope * px[i] + intercept), 2) / n;
+    out["temperatures"] = std::vector<double>(temp, temp + n);
+    out["temperature_mean"] = mean;
+    out["temperature_min"] = *std::min_element(temp, temp + n);
+    out["temperature_max"] = *std::max_element(temp, temp + n);
+    out["heat_content"] = heat;
+    out["temperature_mean_left"] = nl > 0 ? nlohmann::json(left / nl) : nlohmann::json(nullptr);
+    out["temperature_mean_right"] = nr > 0 ? nlohmann::json(right / nr) : nlohmann::json(nullptr);
+    out["temperature_fit"] = {{"slope", slope}, {"intercept", intercept}, {"rms_residual", std::sqrt(residual)}};
+  }
+
+ private:
+  const DemSystem& sys_;
+};
+
 double fitted_slope(const std::vector<double>& xs, const std::vector<double>& ys) {
   const double n = static_cast<double>(xs.size());
   if (n < 3) return NAN;
@@ -199,13 +238,14 @@ HeapShape measure_heap(const std::vector<double>& x, const std::vector<double>& 
 }
 
 const std::vector<std::string>& observer_names() {
-  static const std::vector<std::string> names = {"bounce_heights", "heap", "incline_motion"};
+  static const std::vector<std::string> names = {"bounce_heights", "heap", "incline_motion", "temperatures"};
   return names;
 }
 
 std::unique_ptr<Observer> make_observer(const std::string& name, const DemSystem& system) {
   if (name == "bounce_heights") return std::make_unique<BounceObserver>(system);
   if (name == "heap") return std::make_unique<HeapObserver>(system);
+  if (name == "temperatures") return std::make_unique<TemperatureObserver>(system);
   return std::make_unique<InclineObserver>(system);
 }
 
