@@ -1,5 +1,5 @@
 #pragma once
-#include "integrators/integrator.h"
+#include "integrators/verlet_family.h"
 
 namespace kiln {
 
@@ -13,20 +13,14 @@ namespace kiln {
 //  - `velocity-verlet-predicted` uses v* = v_n + a_n dt, an O(dt^2) prediction of v_{n+1}: second
 //    order with dashpots. Without velocity-dependent forces both are the same scheme.
 // First-order parts z use Heun's method (Euler predictor, trapezoidal corrector): second order.
-class VelocityVerlet final : public Integrator {
+class VelocityVerlet final : public VerletFamily {
  public:
   explicit VelocityVerlet(bool predicted_velocity) : predicted_(predicted_velocity) {}
   void start(OdeSystem& system, double t0, double* y, double dt) override;
   void step() override;
-  double time() const override { return t_; }
 
  private:
   bool predicted_;
-  OdeSystem* system_ = nullptr;
-  StateLayout layout_;
-  double* y_ = nullptr;
-  double t_ = 0, dt_ = 0;
-  std::vector<double> rate_;    // f at the latest evaluation
   std::vector<double> v_half_;
   std::vector<double> z_old_, zrate_old_;
 };

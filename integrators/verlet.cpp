@@ -5,32 +5,20 @@
 namespace kiln {
 
 void BasicVerlet::start(OdeSystem& system, double t0, double* y, double dt) {
-  system_ = &system;
-  layout_ = system.layout();
-  y_ = y;
-  t_ = t0;
-  dt_ = dt;
+  bind(system, t0, y, dt);
   const int nq = layout_.nq, nz = layout_.nz;
   ahead_.assign(nq, 0);
   eval_.assign(layout_.size(), 0);
-  rate_.assign(layout_.size(), 0);
   zrate_.assign(nz, 0);
-
-  system.prepare(t0, y, dt);
-  system.derivative(t0, y, rate_.data());
-  system.accept(t0);
-  ++stats_.rhs_evals;
-  const double* a = rate_.data() + nq;
+  const double* a = accel();
   for (int k = 0; k < nq; ++k) ahead_[k] = y[k] + dt * y[nq + k] + 0.5 * dt * dt * a[k];  // II.20
-  std::copy_n(rate_.data() + 2 * nq, nz, zrate_.data());
+  std::copy_n(zrate(), nz, zrate_.data());
 }
 
 void BasicVerlet::step() {
   const int nq = layout_.nq, nz = layout_.nz;
   const double h = dt_;
-  double* q = y_;
-  double* v = y_ + nq;
-  double* z = y_ + 2 * nq;
+  double *q = this->q(), *v = this->v(), *z = this->z();
   // The force at x_{n+1}: positions known, velocity by backward difference, z by forward Euler.
   for (int k = 0; k < nq; ++k) {
     eval_[k] = ahead_[k];
@@ -39,12 +27,9 @@ void BasicVerlet::step() {
   for (int k = 0; k < nz; ++k) z[k] += h * zrate_[k];
   std::copy_n(z, nz, eval_.data() + 2 * nq);
   const double t_next = t_ + h;
-  system_->prepare(t_next, eval_.data(), 0);
-  system_->derivative(t_next, eval_.data(), rate_.data());
-  system_->accept(t_next);
-  ++stats_.rhs_evals;
+  evaluate(t_next, eval_.data(), 0);
 
-  const double* a = rate_.data() + nq;
+  const double* a = accel();
   for (int k = 0; k < nq; ++k) {
     const double x_prev = q[k];
     const double x_after = 2 * ahead_[k] - x_prev + h * h * a[k];  // II.16
@@ -52,7 +37,7 @@ void BasicVerlet::step() {
     q[k] = ahead_[k];
     ahead_[k] = x_after;
   }
-  std::copy_n(rate_.data() + 2 * nq, nz, zrate_.data());
+  std::copy_n(zrate(), nz, zrate_.data());
   t_ = t_next;
   ++stats_.steps;
 }

@@ -1,5 +1,5 @@
 #pragma once
-#include "integrators/integrator.h"
+#include "integrators/verlet_family.h"
 
 namespace kiln {
 
@@ -13,20 +13,14 @@ namespace kiln {
 // the backward difference (x_n - x_{n-1})/dt, an O(dt) estimate, so the scheme is second order
 // without dashpots and first order with them. First-order parts z use forward Euler (thesis
 // eq. II.11, the explicit temperature update): first order.
-class BasicVerlet final : public Integrator {
+class BasicVerlet final : public VerletFamily {
  public:
   void start(OdeSystem& system, double t0, double* y, double dt) override;
   void step() override;
-  double time() const override { return t_; }
 
  private:
-  OdeSystem* system_ = nullptr;
-  StateLayout layout_;
-  double* y_ = nullptr;
-  double t_ = 0, dt_ = 0;
   std::vector<double> ahead_;  // x_{n+1}
   std::vector<double> eval_;   // state at which the force is evaluated
-  std::vector<double> rate_;   // f at the last evaluation
   std::vector<double> zrate_;  // dz/dt at x_n
 };
 

@@ -11,6 +11,20 @@ namespace kiln {
 
 namespace {
 
+// Least-squares straight line y = slope x + intercept, accumulated point by point.
+struct LineFit {
+  double n = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+  void add(double x, double y) {
+    n += 1;
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+  }
+  double slope() const { return n >= 2 ? (n * sxy - sx * sy) / (n * sxx - sx * sx) : NAN; }
+  double intercept() const { return (sy - slope() * sx) / n; }
+};
+
 // Bounces of particle 0 (cases T1, T2): contact durations from the gap to the nearest wall,
 // linearly interpolated between steps (O(dt^2)), and apex heights along -g. After a release the
 // flight is ballistic, so the apex follows from the first free sample: h = s + u^2 / (2 |g|),
@@ -72,16 +86,10 @@ class InclineObserver final : public Observer {
  public:
   explicit InclineObserver(const DemSystem& sys) : sys_(sys), from_(sys.scene().t_end / 2) {}
   void sample(double t, const double* y) override {
-    if (t < from_) return;
-    const double v = y[sys_.vx_at()];
-    n_ += 1;
-    st_ += t;
-    sv_ += v;
-    stt_ += t * t;
-    stv_ += t * v;
+    if (t >= from_) fit_.add(t, y[sys_.vx_at()]);
   }
   void report(double, const double* y, nlohmann::json& out) override {
-    const double slope = (n_ * stv_ - st_ * sv_) / (n_ * stt_ - st_ * st_);
+    const double slope = fit_.slope();
     const double vx = y[sys_.vx_at()];
     const double w = sys_.rotates() ? y[sys_.omega_at()] : 0.0;
     out["incline_acceleration"] = slope;
@@ -91,13 +99,12 @@ class InclineObserver final : public Observer {
  private:
   const DemSystem& sys_;
   double from_;
-  double n_ = 0, st_ = 0, sv_ = 0, stt_ = 0, stv_ = 0;
+  LineFit fit_;
 };
 
 class HeapObserver final : public Observer {
  public:
   explicit HeapObserver(const DemSystem& sys) : sys_(sys) {}
-  void sample(double, const double*) override {}
   void report(double, const double* y, nlohmann::json& out) override {
     const int n = sys_.particles();
     std::vector<double> x(y + sys_.x_at(), y + sys_.x_at() + n), h(y + sys_.y_at(), y + sys_.y_at() + n), r(n);
@@ -120,23 +127,20 @@ class HeapObserver final : public Observer {
 class TemperatureObserver final : public Observer {
  public:
   explicit TemperatureObserver(const DemSystem& sys) : sys_(sys) {}
-  void sample(double, const double*) override {}
   void report(double, const double* y, nlohmann::json& out) override {
     const int n = sys_.particles();
     const double* temp = y + sys_.temperature_at();
     const double* px = y + sys_.x_at();
-    double mean = 0, heat = 0, left = 0, right = 0, nl = 0, nr = 0, sx = 0, sy = 0, sxx = 0, sxy = 0;
+    double mean = 0, heat = 0, left = 0, right = 0, nl = 0, nr = 0;
+    LineFit fit;
     for (int i = 0; i < n; ++i) {
       mean += temp[i] / n;
       heat += sys_.heat_capacity(i) * temp[i];
       (px[i] < 0 ? left : right) += temp[i];
       (px[i] < 0 ? nl : nr) += 1;
-      sx += px[i];
-      sy += temp[i];
-      sxx += px[i] * px[i];
-      sxy += px[i] * temp[i];
+      fit.add(px[i], temp[i]);
     }
-    const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx), intercept = (sy - slope * sx) / n;
+    const double slope = fit.slope(), intercept = fit.intercept();
     double residual = 0;
     for (int i = 0; i < n; ++i) residual += std::pow(temp[i] - (slope * px[i] + intercept), 2) / n;
     out["temperatures"] = std::vector<double>(temp, temp + n);
@@ -152,19 +156,6 @@ class TemperatureObserver final : public Observer {
  private:
   const DemSystem& sys_;
 };
-
-double fitted_slope(const std::vector<double>& xs, const std::vector<double>& ys) {
-  const double n = static_cast<double>(xs.size());
-  if (n < 3) return NAN;
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (size_t k = 0; k < xs.size(); ++k) {
-    sx += xs[k];
-    sy += ys[k];
-    sxx += xs[k] * xs[k];
-    sxy += xs[k] * ys[k];
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
 
 }  // namespace
 
@@ -190,15 +181,16 @@ HeapShape measure_heap(const std::vector<double>& x, const std::vector<double>& 
   const double height = top[peak] - floor;
   // Slopes: columns whose surface lies between 20 % and 80 % of the heap height on each side
   // (away from the rounded summit and the scattered foot).
-  std::vector<double> lx, ly, rx, ry;
+  LineFit left_slope, right_slope;
   for (int b = 0; b < bins; ++b) {
     const double rel = (top[b] - floor) / height;
     if (rel < 0.2 || rel > 0.8) continue;
-    (b < peak ? lx : rx).push_back(xmin + (b + 0.5) * width);
-    (b < peak ? ly : ry).push_back(top[b]);
+    (b < peak ? left_slope : right_slope).add(xmin + (b + 0.5) * width, top[b]);
   }
-  shape.angle_left_deg = std::atan(std::abs(fitted_slope(lx, ly))) * 180 / M_PI;
-  shape.angle_right_deg = std::atan(std::abs(fitted_slope(rx, ry))) * 180 / M_PI;
+  // Fewer than three columns on a side give no slope.
+  auto angle = [](const LineFit& f) { return f.n >= 3 ? std::atan(std::abs(f.slope())) * 180 / M_PI : NAN; };
+  shape.angle_left_deg = angle(left_slope);
+  shape.angle_right_deg = angle(right_slope);
   shape.angle_deg = 0.5 * (shape.angle_left_deg + shape.angle_right_deg);
 
   // Packing fraction: share of a regular grid of sample points covered by discs, in a window

@@ -14,7 +14,7 @@ class DemSystem;
 class Observer {
  public:
   virtual ~Observer() = default;
-  virtual void sample(double t, const double* y) = 0;
+  virtual void sample(double /*t*/, const double* /*y*/) {}  // after every step; most need only the end
   virtual void report(double t, const double* y, nlohmann::json& summary) = 0;
 };
 

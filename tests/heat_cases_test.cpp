@@ -27,14 +27,7 @@ std::vector<double> temps(const nlohmann::json& s) { return s["temperatures"].ge
 
 // Rows of a (frames x n) dataset.
 std::vector<std::vector<double>> read_frames(const fs::path& file, const char* name, int n) {
-  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  const hid_t ds = H5Dopen2(f, name, H5P_DEFAULT);
-  const hid_t space = H5Dget_space(ds);
-  std::vector<double> flat(H5Sget_simple_extent_npoints(space));
-  H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, flat.data());
-  H5Sclose(space);
-  H5Dclose(ds);
-  H5Fclose(f);
+  const std::vector<double> flat = testing::read_dataset(file, name);
   std::vector<std::vector<double>> rows;
   for (size_t k = 0; k + n <= flat.size(); k += n) rows.emplace_back(flat.begin() + k, flat.begin() + k + n);
   return rows;

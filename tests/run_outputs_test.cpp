@@ -21,19 +21,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-std::vector<double> read_dataset(const fs::path& file, const char* name) {
-  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
-  REQUIRE(f >= 0);
-  const hid_t ds = H5Dopen2(f, name, H5P_DEFAULT);
-  const hid_t space = H5Dget_space(ds);
-  std::vector<double> data(H5Sget_simple_extent_npoints(space));
-  H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data());
-  H5Sclose(space);
-  H5Dclose(ds);
-  H5Fclose(f);
-  return data;
-}
-
 fs::path fresh_dir(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("kiln_test_" + name + "_" + std::to_string(::getpid()));
   fs::remove_all(dir);
@@ -58,12 +45,12 @@ TEST_CASE("kiln run writes result.h5, result.xdmf, summary.json and picture.png,
                           "work_by_walls", "balance_error"})
     CHECK(s["energy"].contains(key));
   // 0.01 s at 1e-3 s per frame: the initial state, ten frames, the final state included.
-  const auto time = read_dataset(dir / "result.h5", "time");
+  const auto time = testing::read_dataset(dir / "result.h5", "time");
   REQUIRE(time.size() == 11);
   CHECK(time.front() == 0.0);
   CHECK(time.back() == Approx(0.01));
-  CHECK(read_dataset(dir / "result.h5", "position").size() == 11 * 2);
-  CHECK(read_dataset(dir / "result.h5", "radius") == std::vector<double>{0.002});
+  CHECK(testing::read_dataset(dir / "result.h5", "position").size() == 11 * 2);
+  CHECK(testing::read_dataset(dir / "result.h5", "radius") == std::vector<double>{0.002});
   fs::remove_all(dir);
 }
 
@@ -83,7 +70,7 @@ TEST_CASE("the same scene and options give bit-identical result.h5 data", "[outp
     run_scene(scene, {dir.string(), true});
     std::vector<double> all;
     for (const char* name : {"time", "position", "velocity", "angle", "angular_velocity"}) {
-      const auto d = read_dataset(dir / "result.h5", name);
+      const auto d = testing::read_dataset(dir / "result.h5", name);
       all.insert(all.end(), d.begin(), d.end());
     }
     runs.push_back(all);

@@ -7,6 +7,10 @@
 #include <string>
 #include <vector>
 
+#include <hdf5.h>
+
+#include <filesystem>
+
 #include "integrators/integrator.h"
 #include "src/dem_system.h"
 #include "src/scene_yaml.h"
@@ -42,6 +46,20 @@ inline std::string case_text(const std::string& name) {
   std::stringstream text;
   text << in.rdbuf();
   return text.str();
+}
+
+// A whole dataset of result.h5, flattened.
+inline std::vector<double> read_dataset(const std::filesystem::path& file, const char* name) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return {};
+  const hid_t ds = H5Dopen2(f, name, H5P_DEFAULT);
+  const hid_t space = H5Dget_space(ds);
+  std::vector<double> data(H5Sget_simple_extent_npoints(space));
+  H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data());
+  H5Sclose(space);
+  H5Dclose(ds);
+  H5Fclose(f);
+  return data;
 }
 
 // Observed order from errors at step sizes h and h/2.
