@@ -3,11 +3,22 @@
 // their velocities v (same length) and first-order quantities z (energy-ledger integrals, later
 // temperatures). The right-hand side is f(t, y) = [v | dv/dt | dz/dt].
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 namespace kiln {
+
+// Step-size control. rtol > 0 makes adaptive integrators adapt (starting from dt); fixed-step
+// implicit solves still use rtol/atol to stop their iterations, so they get tight defaults.
+struct StepControl {
+  double rtol = 0;
+  double atol = 0;  // scalar absolute tolerance, for every field not given below
+  double atol_position = NAN, atol_velocity = NAN, atol_angle = NAN, atol_temperature = NAN;
+};
 
 struct StateLayout {
   int nq = 0;  // positions (and as many velocities)
@@ -27,6 +38,22 @@ class OdeSystem {
   virtual void derivative(double t, const double* y, double* ydot) = 0;
   // The step ending at time t is accepted: contact history from its last evaluation is kept.
   virtual void accept(double t) = 0;
+  // True when accept() keeps history that must come from an evaluation at the step's end.
+  virtual bool has_history() const { return false; }
+
+  // IMEX split f = f_E + f_I: f_I is the stiff part, linear in y (heat conduction on a fixed
+  // candidate list). Systems without one are fully explicit.
+  virtual bool has_implicit_part() const { return false; }
+  virtual void explicit_part(double t, const double* y, double* ydot) { derivative(t, y, ydot); }
+  virtual void implicit_part(double, const double*, double* ydot) { std::fill_n(ydot, layout().size(), 0.0); }
+  // jv = (d f_I / d y) v.
+  virtual void implicit_jacobian_times(double, const double*, const double*, double* jv) {
+    std::fill_n(jv, layout().size(), 0.0);
+  }
+  // Absolute tolerances per component from the step control.
+  virtual std::vector<double> absolute_tolerances(const StepControl& c) const {
+    return std::vector<double>(layout().size(), c.atol);
+  }
 };
 
 struct IntegratorStats {
@@ -39,9 +66,13 @@ class Integrator {
   virtual ~Integrator() = default;
   // Binds the live state `y` (advanced in place by step()) and evaluates what the scheme needs at t0.
   virtual void start(OdeSystem& system, double t0, double* y, double dt) = 0;
-  virtual void step() = 0;  // advances y by one step of the dt given to start()
+  virtual void step() = 0;  // advances y by one step (of the dt given to start(), if fixed)
   virtual double time() const = 0;
+  // Adaptive integrators do not step past this time (an output frame, the end).
+  virtual void set_stop_time(double) {}
   const IntegratorStats& stats() const { return stats_; }
+  // Everything the integrator counted, for summary.json's integrator_stats.
+  virtual nlohmann::json statistics() const { return {{"steps", stats_.steps}, {"rhs_evals", stats_.rhs_evals}}; }
 
  protected:
   IntegratorStats stats_;
@@ -51,11 +82,14 @@ struct IntegratorInfo {
   std::string name;
   int order = 0;              // nominal order on smooth, velocity-independent forces
   int order_with_dashpot = 0; // order when forces depend on velocity (dashpots, friction)
+  int embedding = 0;          // order of the embedded error estimate; 0: none (fixed step only)
+  bool implicit = false;      // IMEX: conduction implicit
   std::string summary;
 };
 
+// Every name a user can type, aliases included.
 const std::vector<IntegratorInfo>& integrator_catalogue();
 // Creates an integrator by name; an unknown name throws InputError listing the valid names.
-std::unique_ptr<Integrator> make_integrator(const std::string& name);
+std::unique_ptr<Integrator> make_integrator(const std::string& name, const StepControl& control = {});
 
 }  // namespace kiln

@@ -1,6 +1,7 @@
 // Integrators by name: the names a user types (`--integrator`, the scene's `integrator:` key).
 #include <memory>
 
+#include "integrators/arkode.h"
 #include "integrators/integrator.h"
 #include "integrators/velocity_verlet.h"
 #include "integrators/verlet.h"
@@ -9,22 +10,101 @@
 
 namespace kiln {
 
-const std::vector<IntegratorInfo>& integrator_catalogue() {
-  static const std::vector<IntegratorInfo> catalogue = {
-      {"verlet", 2, 1, "basic Stormer-Verlet (thesis II.16, II.20, II.21); backward-difference velocity in forces"},
-      {"velocity-verlet", 2, 1, "velocity Verlet (thesis II.25-II.27); half-step velocity in forces, as LAMMPS"},
-      {"velocity-verlet-predicted", 2, 2, "velocity Verlet with the predicted v_n + a_n dt in forces"},
+namespace {
+
+// SUNDIALS 6.4.1's built-in explicit tables, NAME_stages_embedding_order (KNOTH_WOLKE_3_3 has no
+// embedding: fixed step only), and the IMEX pairs with their orders.
+const char* const erk_tables[] = {"HEUN_EULER_2_1_2",     "BOGACKI_SHAMPINE_4_2_3", "ARK324L2SA_ERK_4_2_3",
+                                  "ZONNEVELD_5_3_4",      "ARK436L2SA_ERK_6_3_4",   "SAYFY_ABURUB_6_3_4",
+                                  "CASH_KARP_6_4_5",      "FEHLBERG_6_4_5",         "DORMAND_PRINCE_7_4_5",
+                                  "ARK548L2SA_ERK_8_4_5", "VERNER_8_5_6",           "FEHLBERG_13_7_8",
+                                  "KNOTH_WOLKE_3_3",      "ARK437L2SA_ERK_7_3_4",   "ARK548L2SAb_ERK_8_4_5"};
+struct Pair {
+  const char* name;
+  const char* erk;
+  const char* dirk;
+  int order, embedding;
+};
+const Pair imex_pairs[] = {{"ARK324L2SA", "ARK324L2SA_ERK_4_2_3", "ARK324L2SA_DIRK_4_2_3", 3, 2},
+                           {"ARK436L2SA", "ARK436L2SA_ERK_6_3_4", "ARK436L2SA_DIRK_6_3_4", 4, 3},
+                           {"ARK437L2SA", "ARK437L2SA_ERK_7_3_4", "ARK437L2SA_DIRK_7_3_4", 4, 3},
+                           {"ARK548L2SA", "ARK548L2SA_ERK_8_4_5", "ARK548L2SA_DIRK_8_4_5", 5, 4},
+                           {"ARK548L2SAb", "ARK548L2SAb_ERK_8_4_5", "ARK548L2SAb_DIRK_8_4_5", 5, 4}};
+const std::pair<const char*, const char*> aliases[] = {
+    {"erk2", "erk:HEUN_EULER_2_1_2"}, {"erk3", "erk:BOGACKI_SHAMPINE_4_2_3"}, {"erk4", "erk:ZONNEVELD_5_3_4"},
+    {"erk5", "erk:DORMAND_PRINCE_7_4_5"}, {"erk6", "erk:VERNER_8_5_6"},       {"erk8", "erk:FEHLBERG_13_7_8"},
+    {"imex3", "imex:ARK324L2SA"},        {"imex4", "imex:ARK436L2SA"},       {"imex5", "imex:ARK548L2SA"}};
+
+// Order and embedding from a table name's trailing numbers: stages_embedding_order, or
+// stages_order for a table without an embedding.
+std::pair<int, int> orders_of(const std::string& table) {
+  std::vector<int> numbers;
+  size_t end = table.size();
+  while (end > 0) {
+    const size_t start = table.rfind('_', end - 1);
+    const std::string token = table.substr(start + 1, end - start - 1);
+    if (token.empty() || token.find_first_not_of("0123456789") != std::string::npos) break;
+    numbers.insert(numbers.begin(), std::stoi(token));
+    end = start;
+  }
+  return numbers.size() == 3 ? std::pair{numbers[2], numbers[1]} : std::pair{numbers.back(), 0};
+}
+
+std::vector<IntegratorInfo> build_catalogue() {
+  std::vector<IntegratorInfo> c = {
+      {"verlet", 2, 1, 0, false,
+       "basic Stormer-Verlet (thesis II.16, II.20, II.21); backward-difference velocity in forces"},
+      {"velocity-verlet", 2, 1, 0, false, "velocity Verlet (thesis II.25-II.27); half-step velocity in forces, as LAMMPS"},
+      {"velocity-verlet-predicted", 2, 2, 0, false, "velocity Verlet with the predicted v_n + a_n dt in forces"},
   };
+  for (const char* table : erk_tables) {
+    const auto [order, embedding] = orders_of(table);
+    c.push_back({std::string("erk:") + table, order, order, embedding, false, "ARKODE explicit table (ARKStep)"});
+  }
+  for (const Pair& p : imex_pairs)
+    c.push_back({std::string("imex:") + p.name, p.order, p.order, p.embedding, true,
+                 "ARKODE IMEX pair: mechanics explicit, conduction implicit (SPGMR)"});
+  for (const auto& [alias, target] : aliases)
+    for (const IntegratorInfo& info : std::vector<IntegratorInfo>(c))
+      if (info.name == target) {
+        IntegratorInfo a = info;
+        a.name = alias;
+        a.summary = std::string("alias of ") + target;
+        c.push_back(a);
+      }
+  return c;
+}
+
+}  // namespace
+
+const std::vector<IntegratorInfo>& integrator_catalogue() {
+  static const std::vector<IntegratorInfo> catalogue = build_catalogue();
   return catalogue;
 }
 
-std::unique_ptr<Integrator> make_integrator(const std::string& name) {
+std::unique_ptr<Integrator> make_integrator(const std::string& typed, const StepControl& control) {
+  std::string name = typed;
+  for (const auto& [alias, target] : aliases)
+    if (name == alias) name = target;
+  const IntegratorInfo* info = nullptr;
+  for (const auto& i : integrator_catalogue())
+    if (i.name == name) info = &i;
+  if (!info) {
+    std::vector<std::string> names;
+    for (const auto& i : integrator_catalogue()) names.push_back(i.name);
+    throw InputError("unknown integrator '" + typed + "'; valid names are " + choices_nearest_first(typed, names));
+  }
+  if (control.rtol > 0 && info->embedding == 0)
+    throw InputError("integrator '" + typed + "' has no error estimate and cannot adapt: give no rtol, or pick an "
+                     "erk: or imex: method with an embedding (see 'kiln integrators')");
   if (name == "verlet") return std::make_unique<BasicVerlet>();
   if (name == "velocity-verlet") return std::make_unique<VelocityVerlet>(false);
   if (name == "velocity-verlet-predicted") return std::make_unique<VelocityVerlet>(true);
-  std::vector<std::string> names;
-  for (const auto& info : integrator_catalogue()) names.push_back(info.name);
-  throw InputError("unknown integrator '" + name + "'; valid names are " + choices_nearest_first(name, names));
+  if (name.rfind("erk:", 0) == 0) return std::make_unique<ArkodeIntegrator>(ArkodeMethod{name.substr(4), ""}, control);
+  for (const Pair& p : imex_pairs)
+    if (name == std::string("imex:") + p.name)
+      return std::make_unique<ArkodeIntegrator>(ArkodeMethod{p.erk, p.dirk}, control);
+  throw InputError("integrator '" + typed + "' is listed but not constructible");
 }
 
 }  // namespace kiln

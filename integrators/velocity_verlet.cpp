@@ -26,12 +26,12 @@ void VelocityVerlet::step() {
   std::copy_n(zrate, nz, zrate_old_.data());
   for (int k = 0; k < nz; ++k) z[k] += h * zrate_old_[k];
 
-  const double t_next = t_ + h;
+  const double t_next = next_time();
   evaluate(t_next, y_, 0);
 
   for (int k = 0; k < nq; ++k) v[k] = v_half_[k] + 0.5 * h * a[k];  // II.27 with a = a_{n+1}
   for (int k = 0; k < nz; ++k) z[k] = z_old_[k] + 0.5 * h * (zrate_old_[k] + zrate[k]);
-  t_ = t_next;
+  advance_time();
   ++stats_.steps;
 }
 

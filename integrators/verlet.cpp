@@ -26,7 +26,7 @@ void BasicVerlet::step() {
   }
   for (int k = 0; k < nz; ++k) z[k] += h * zrate_[k];
   std::copy_n(z, nz, eval_.data() + 2 * nq);
-  const double t_next = t_ + h;
+  const double t_next = next_time();
   evaluate(t_next, eval_.data(), 0);
 
   const double* a = accel();
@@ -38,7 +38,7 @@ void BasicVerlet::step() {
     ahead_[k] = x_after;
   }
   std::copy_n(zrate(), nz, zrate_.data());
-  t_ = t_next;
+  advance_time();
   ++stats_.steps;
 }
 

@@ -12,12 +12,17 @@ class VerletFamily : public Integrator {
   double time() const override { return t_; }
 
  protected:
+  // t_n = t_0 + n dt: no drift from summing dt.
+  double next_time() const { return t0_ + static_cast<double>(count_ + 1) * dt_; }
+  void advance_time() { t_ = t0_ + static_cast<double>(++count_) * dt_; }
+
   // Binds the system and the live state, and evaluates f(t0, y) into rate_.
   void bind(OdeSystem& system, double t0, double* y, double dt) {
     system_ = &system;
     layout_ = system.layout();
     y_ = y;
-    t_ = t0;
+    t_ = t0_ = t0;
+    count_ = 0;
     dt_ = dt;
     rate_.assign(layout_.size(), 0);
     evaluate(t0, y, dt);
@@ -40,7 +45,8 @@ class VerletFamily : public Integrator {
   OdeSystem* system_ = nullptr;
   StateLayout layout_;
   double* y_ = nullptr;
-  double t_ = 0, dt_ = 0;
+  double t_ = 0, t0_ = 0, dt_ = 0;
+  long count_ = 0;
   std::vector<double> rate_;  // f at the latest evaluation
 };
 

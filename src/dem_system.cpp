@@ -56,6 +56,7 @@ DemSystem::DemSystem(const Scene& scene)
     for (int b = 0; b < nm; ++b) {
       const LawFlags& f = flags_[scene.material[i] * nm + b];
       rotates_ = rotates_ || f.tangential || f.rolling;
+      has_tangential_ = has_tangential_ || f.tangential;
     }
     rotates_ = rotates_ || scene.angular_velocity[i] != 0;
   }
@@ -232,7 +233,7 @@ double DemSystem::release(ContactList& list, int p, double dt_hist) const {
   return contact::release_dissipation({list.kt[p], 0, 0}, list.spring[p], dt_hist);
 }
 
-void DemSystem::derivative(double t, const double* y, double* ydot) {
+void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, const double* temps) {
   const int nq = layout_.nq;
   std::copy_n(y + nq, nq, ydot);  // dq/dt = v
   Fields s{y + x_at(), y + y_at(), y + vx_at(), y + vy_at(), rotates_ ? y + omega_at() : nullptr,
@@ -241,9 +242,13 @@ void DemSystem::derivative(double t, const double* y, double* ydot) {
   if (moving_walls_) update_walls(t);
   const double dt_hist = t - t_committed_;
   double damping = 0, friction = 0, walls_work = 0, worst = 0;
-  // Heat: temperatures and their rates (thermal scenes only).
-  const double* temp = thermal_ ? y + temperature_at() : nullptr;
+  // Heat: temperatures and their rates (thermal scenes only), split for IMEX into conduction
+  // (implicit) and heat from dissipation (explicit).
+  const double* temp = thermal_ ? (temps ? temps : y + temperature_at()) : nullptr;
   double* heat = thermal_ ? ydot + temperature_at() : nullptr;
+  const bool conduct = part != Part::explicit_only;
+  const double generate = part == Part::all || part == Part::explicit_only;
+  const bool wall_sources = part != Part::jacobian;
   if (thermal_) std::fill_n(heat, n_, 0.0);
   double heat_walls = 0, heat_generated = 0;
 
@@ -296,9 +301,10 @@ void DemSystem::derivative(double t, const double* y, double* ydot) {
     if (heat) {
       // Conduction H (T_j - T_i) ([thesis] eq. II.6-II.8), and the dissipation that becomes heat,
       // shared by beta (Nguyen et al. 2009: m c_p dT/dt = sum_j (H (T_j - T_i) + E_f / (2 dt))).
-      const double q = thermal::conductance(lf.conduction, radius_[i], radius_[j], d, f.normal) * (temp[j] - temp[i]);
-      const double generated = heat_power_factor_friction_ * (f.friction_power + rolling_power) +
-                               heat_power_factor_damping_ * f.damping_power;
+      const double q =
+          conduct ? thermal::conductance(lf.conduction, radius_[i], radius_[j], d, f.normal) * (temp[j] - temp[i]) : 0.0;
+      const double generated = generate * (heat_power_factor_friction_ * (f.friction_power + rolling_power) +
+                                           heat_power_factor_damping_ * f.damping_power);
       heat[i] += q + lf.heat_share * generated;
       heat[j] += -q + (1 - lf.heat_share) * generated;
       heat_generated += generated;
@@ -355,13 +361,15 @@ void DemSystem::derivative(double t, const double* y, double* ydot) {
     if (heat) {
       // An isothermal wall exchanges H (T_wall - T_i); the wall keeps its share of frictional heat.
       const thermal::WallTemperature& wt = scene_.walls[wall].temperature;
-      if (wt.isothermal()) {
-        const double q = thermal::conductance(lf.conduction, r, INFINITY, r - overlap, f.normal) * (wt.at(t) - temp[i]);
+      if (wt.isothermal() && conduct) {
+        const double outside = wall_sources ? wt.at(t) : 0.0;
+        const double q = thermal::conductance(lf.conduction, r, INFINITY, r - overlap, f.normal) * (outside - temp[i]);
         heat[i] += q;
         heat_walls += q;
       }
-      const double generated = lf.heat_share * (heat_power_factor_friction_ * (f.friction_power + rolling_power) +
-                                                heat_power_factor_damping_ * f.damping_power);
+      const double generated = generate * lf.heat_share *
+                               (heat_power_factor_friction_ * (f.friction_power + rolling_power) +
+                                heat_power_factor_damping_ * f.damping_power);
       heat[i] += generated;
       heat_generated += generated;
     }
@@ -381,10 +389,17 @@ void DemSystem::derivative(double t, const double* y, double* ydot) {
   ledger[ledger_walls] = walls_work;
   if (heat) {
     for (int i = 0; i < n_; ++i) heat[i] *= inv_capacity_[i];
-    ledger[ledger_heat_walls] = heat_walls;
+    ledger[ledger_heat_walls] = wall_sources ? heat_walls : 0.0;
     ledger[ledger_heat_generated] = heat_generated;
   }
-  max_overlap_fraction_ = worst;
+  if (part == Part::implicit_only || part == Part::jacobian) {
+    // Only conduction is implicit: everything before the temperatures is explicit, except the
+    // heat that walls exchange by conduction.
+    std::fill_n(ydot, temperature_at(), 0.0);
+    if (part == Part::implicit_only) ledger[ledger_heat_walls] = heat_walls;
+  } else {
+    max_overlap_fraction_ = worst;
+  }
 }
 
 EnergyLedger DemSystem::energy(double t, const double* y) const {
@@ -428,6 +443,19 @@ EnergyLedger DemSystem::energy(double t, const double* y) const {
     e.heat_from_dissipation = ledger[ledger_heat_generated];
   }
   return e;
+}
+
+std::vector<double> DemSystem::absolute_tolerances(const StepControl& c) const {
+  std::vector<double> atol(layout_.size(), c.atol);
+  auto fill = [&](int from, int count, double value) {
+    if (from >= 0 && std::isfinite(value)) std::fill_n(atol.begin() + from, count, value);
+  };
+  fill(x_at(), 2 * n_, c.atol_position);
+  fill(angle_at(), n_, c.atol_angle);
+  fill(vx_at(), 2 * n_, c.atol_velocity);
+  fill(omega_at(), n_, c.atol_velocity);
+  fill(temperature_at(), n_, c.atol_temperature);
+  return atol;
 }
 
 std::vector<ConductanceLink> DemSystem::conduction_links(double t, const double* y) const {

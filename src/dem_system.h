@@ -45,8 +45,21 @@ class DemSystem final : public OdeSystem {
 
   StateLayout layout() const override { return layout_; }
   void prepare(double t, const double* y, double lookahead) override;
-  void derivative(double t, const double* y, double* ydot) override;
+  void derivative(double t, const double* y, double* ydot) override { evaluate(t, y, ydot, Part::all, nullptr); }
   void accept(double t) override;
+  bool has_history() const override { return has_tangential_; }
+  // IMEX: conduction (linear in the temperatures) is the implicit part; all else is explicit.
+  bool has_implicit_part() const override { return thermal_; }
+  void explicit_part(double t, const double* y, double* ydot) override {
+    evaluate(t, y, ydot, Part::explicit_only, nullptr);
+  }
+  void implicit_part(double t, const double* y, double* ydot) override {
+    evaluate(t, y, ydot, Part::implicit_only, nullptr);
+  }
+  void implicit_jacobian_times(double t, const double* y, const double* v, double* jv) override {
+    evaluate(t, y, jv, Part::jacobian, v + temperature_at());
+  }
+  std::vector<double> absolute_tolerances(const StepControl& c) const override;
 
   std::vector<double> initial_state() const;
   int particles() const { return n_; }
@@ -93,6 +106,10 @@ class DemSystem final : public OdeSystem {
     thermal::ConductionLaw conduction;  // from the first material to the second
     double heat_share = 0.5;            // share of frictional heat for the first material's body
   };
+  // What one evaluation computes: everything, the explicit or the implicit part of an IMEX split,
+  // or the implicit part's Jacobian times the temperatures `temps` (walls held at 0).
+  enum class Part { all, explicit_only, implicit_only, jacobian };
+  void evaluate(double t, const double* y, double* ydot, Part part, const double* temps);
   void rebuild(double t, const double* y);
   void set_coefficients(ContactList& list, bool walls);
   void update_walls(double t);
@@ -103,6 +120,7 @@ class DemSystem final : public OdeSystem {
   bool rotates_ = false;
   bool moving_walls_ = false;
   bool thermal_ = false;
+  bool has_tangential_ = false;
   double heat_power_factor_damping_ = 0, heat_power_factor_friction_ = 0;  // 1 when that dissipation heats
   std::vector<double> capacity_, inv_capacity_;
   StateLayout layout_;

@@ -20,7 +20,7 @@ namespace {
 struct SceneArgs {
   std::string path;
   std::string integrator;
-  double dt = 0, t_end = 0;
+  double dt = 0, t_end = 0, rtol = 0, atol = 0;
   std::vector<std::string> sets;
 };
 
@@ -30,8 +30,10 @@ kiln::Scene load(const SceneArgs& a) {
   if (!a.integrator.empty()) sets.push_back("integrator=" + a.integrator);
   if (a.dt > 0) sets.push_back(kiln::assignment("dt", a.dt));
   if (a.t_end > 0) sets.push_back(kiln::assignment("t_end", a.t_end));
+  if (a.rtol > 0) sets.push_back(kiln::assignment("rtol", a.rtol));
+  if (a.atol > 0) sets.push_back(kiln::assignment("atol", a.atol));
   kiln::Scene scene = kiln::load_scene(a.path, sets);
-  kiln::make_integrator(scene.integrator);  // an unknown name fails before anything runs
+  kiln::make_integrator(scene.integrator, scene.control);  // an unknown name fails before anything runs
   return scene;
 }
 
@@ -40,6 +42,10 @@ void add_scene_options(CLI::App* cmd, SceneArgs& a) {
   cmd->add_option("--integrator", a.integrator, "integrator name (see 'kiln integrators')");
   cmd->add_option("--dt", a.dt, "time step (s)")->check(CLI::PositiveNumber);
   cmd->add_option("--t-end", a.t_end, "end time (s)")->check(CLI::PositiveNumber);
+  cmd->add_option("--rtol", a.rtol, "relative tolerance: adaptive steps from --dt (erk:/imex: methods)")
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--atol", a.atol, "absolute tolerance (per field: --set atol.temperature=...)")
+      ->check(CLI::PositiveNumber);
   cmd->add_option("--set", a.sets, "override a scene value by dotted path: KEY=VALUE")->take_all();
 }
 
@@ -103,9 +109,12 @@ int list_cases() {
 }
 
 int list_integrators() {
-  std::printf("%-28s %5s %13s  %s\n", "name", "order", "with dashpot", "scheme");
+  std::printf("%-30s %5s %9s %9s %6s  %s\n", "name", "order", "dashpot", "embedded", "adapts", "scheme");
   for (const auto& info : kiln::integrator_catalogue())
-    std::printf("%-28s %5d %13d  %s\n", info.name.c_str(), info.order, info.order_with_dashpot, info.summary.c_str());
+    std::printf("%-30s %5d %9d %9s %6s  %s\n", info.name.c_str(), info.order, info.order_with_dashpot,
+                info.embedding ? std::to_string(info.embedding).c_str() : "-", info.embedding ? "yes" : "no",
+                info.summary.c_str());
+  std::printf("(order: nominal order on smooth forces; dashpot: order when forces depend on velocity)\n");
   return 0;
 }
 

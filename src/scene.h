@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "integrators/integrator.h"
 #include "src/vec2.h"
 #include "thermal/conductance.h"
 #include "thermal/wall_temperature.h"
@@ -119,6 +120,7 @@ struct Scene {
 
   // Integration and output.
   std::string integrator = "velocity-verlet";
+  StepControl control;  // rtol/atol: adaptive stepping for integrators with an error estimate
   double dt = 0;
   double t_end = 0;
   double output_interval = 0;

@@ -446,7 +446,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   const auto overridden = std::make_shared<const std::set<std::string>>(apply_overrides(doc, overrides));
   const SceneNode root(doc, "", file, overridden);
   root.allow({"name", "description", "mass_model", "thickness", "gravity", "materials", "contact_model", "contacts",
-              "conduction_model", "heat_from_dissipation", "mechanics", "freeze", "particles", "walls", "integrator", "dt",
+              "conduction_model", "heat_from_dissipation", "mechanics", "freeze", "particles", "walls", "integrator", "rtol", "atol", "dt",
               "t_end", "output_interval", "skin", "allow_overlap", "checks", "stop", "report"});
   Scene scene;
   scene.file = file;
@@ -478,6 +478,27 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   check_overlaps(root, scene, set_location, set_of);
 
   if (auto i = root.optional("integrator")) scene.integrator = i->text();
+  if (auto r = root.optional("rtol")) scene.control.rtol = r->in_range(0, 1, true, true);
+  // atol: a number for every component, or per field {position, velocity, angle, temperature, other}.
+  if (auto a = root.optional("atol")) {
+    if (a->is_map()) {
+      a->allow({"position", "velocity", "angle", "temperature", "other"});
+      scene.control.atol = a->number_or("other", 0);
+      scene.control.atol_position = a->number_or("position", NAN);
+      scene.control.atol_velocity = a->number_or("velocity", NAN);
+      scene.control.atol_angle = a->number_or("angle", NAN);
+      scene.control.atol_temperature = a->number_or("temperature", NAN);
+    } else {
+      scene.control.atol = a->positive();
+    }
+  }
+  if (scene.control.rtol > 0) {
+    bool adapts = false;
+    for (const auto& info : integrator_catalogue()) adapts = adapts || (info.name == scene.integrator && info.embedding > 0);
+    if (!adapts)
+      root["rtol"].fail("integrator '" + scene.integrator +
+                        "' has no error estimate and cannot adapt; drop rtol or pick an erk:/imex: method with an embedding");
+  }
   scene.dt = root["dt"].positive();
   scene.t_end = root["t_end"].positive();
   if (scene.dt > scene.t_end) root["dt"].fail("dt is longer than t_end");

@@ -194,7 +194,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   for (const std::string& name : scene.report) observers.push_back(make_observer(name, system));
 
   // The mechanical stage (skipped in a thermal-only scene): the full state, at dt.
-  std::unique_ptr<Integrator> integrator = make_integrator(scene.integrator);
+  std::unique_ptr<Integrator> integrator = make_integrator(scene.integrator, scene.control);
   if (scene.frozen) {
     system.prepare(0, y.data(), 0);
   } else {
@@ -219,17 +219,21 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
 
   enum class Ended { at_end, at_rest, frozen };
   long total_steps = 0, total_rhs = 0;
-  // Steps one stage from t0 with step dt to t_end: whole steps, t_k = t0 + k dt, no drift.
+  // Steps one stage from t0 to t_end (steps of dt, or adaptive), with a frame every `interval`.
   auto run_stage = [&](Integrator& stepper, double t0, double dt, double interval, bool mechanics, double& t) {
-    const long steps = std::max(1L, std::lround(std::ceil((scene.t_end - t0) / dt - 1e-9)));
-    const long frame_every = std::max(1L, std::lround(interval / dt));
+    const double tol = 1e-9 * dt;
+    long k = 0, frames = 1;
+    double next_frame = t0 + interval;
+    stepper.set_stop_time(std::min(next_frame, scene.t_end));
     guard.set_stage(dt, !mechanics);
-    for (long k = 1; k <= steps; ++k) {
+    while (t < scene.t_end - tol) {
       stepper.step();
-      t = t0 + k * dt;
+      ++k;
+      t = stepper.time();
       if (mechanics) guard.every_step(t);
       for (auto& o : observers) o->sample(t, y.data());
-      if (k % frame_every == 0 || k == steps) {
+      const bool at_end = t >= scene.t_end - tol;
+      if (t >= next_frame - tol || at_end) {
         guard.finite(t, y.data(), system.layout().size());
         const EnergyLedger now = system.energy(t, y.data());
         guard.energy(t, now);
@@ -238,10 +242,12 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
         files.frame(t, y.data());
         count_contacts(t);
         progress.update(t, scene.t_end);
+        while (next_frame <= t + tol) next_frame = t0 + (++frames) * interval;  // no drift from summing
+        stepper.set_stop_time(std::min(next_frame, scene.t_end));
         if (mechanics && scene.stop_kinetic_energy > 0 && t >= scene.stop_not_before &&
             now.kinetic < scene.stop_kinetic_energy)
-          return k < steps ? Ended::at_rest : Ended::at_end;
-        if (mechanics && scene.freeze.enabled && k < steps &&
+          return at_end ? Ended::at_end : Ended::at_rest;
+        if (mechanics && scene.freeze.enabled && !at_end &&
             ((t >= scene.freeze.not_before && now.kinetic < scene.freeze.kinetic_energy_below) ||
              t >= scene.freeze.latest))
           return Ended::frozen;
@@ -254,10 +260,12 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
 
   double t = 0, frozen_at = NAN;
   Ended ended = Ended::frozen;
+  nlohmann::json integrator_stats;
   if (!scene.frozen) {
     ended = run_stage(*integrator, 0, scene.dt, scene.output_interval, true, t);
     total_steps += integrator->stats().steps;
     total_rhs += integrator->stats().rhs_evals;
+    integrator_stats = integrator->statistics();
   }
   if (ended == Ended::frozen) {
     // Freeze: the residual kinetic energy is removed (booked as dissipated), the conductances of
@@ -275,11 +283,12 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
     const double interval = scene.frozen ? scene.output_interval
                             : scene.freeze.output_interval > 0 ? scene.freeze.output_interval
                                                                : (scene.t_end - t) / 100;
-    std::unique_ptr<Integrator> heat_stepper = make_integrator(scene.integrator);
+    std::unique_ptr<Integrator> heat_stepper = make_integrator(scene.integrator, scene.control);
     heat_stepper->start(heat, t, y.data() + system.ledger_at(), dt);
     if (t < scene.t_end) ended = run_stage(*heat_stepper, t, dt, interval, false, t);
     total_steps += heat_stepper->stats().steps;
     total_rhs += heat_stepper->stats().rhs_evals;
+    (scene.frozen ? integrator_stats : integrator_stats["heat_stage"]) = heat_stepper->statistics();
   }
   progress.finish();
   const EnergyLedger final_energy = system.energy(t, y.data());
@@ -294,6 +303,8 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   summary["frozen_at"] = std::isfinite(frozen_at) ? nlohmann::json(frozen_at) : nlohmann::json(nullptr);
   summary["steps"] = total_steps;
   summary["rhs_evals"] = total_rhs;
+  summary["integrator_stats"] = integrator_stats;
+  summary["rtol"] = scene.control.rtol;
   summary["wall_seconds"] = wall_seconds;
   summary["particle_steps_per_second"] = system.particles() * static_cast<double>(total_steps) / wall_seconds;
   summary["particles"] = system.particles();

@@ -62,6 +62,9 @@ inline std::vector<double> read_dataset(const std::filesystem::path& file, const
   return data;
 }
 
+// The Verlet schemes (the catalogue also lists ARKODE methods and aliases).
+inline std::vector<std::string> verlet_family() { return {"verlet", "velocity-verlet", "velocity-verlet-predicted"}; }
+
 // Observed order from errors at step sizes h and h/2.
 inline double order(double e_coarse, double e_fine) { return std::log(e_coarse / e_fine) / std::log(2.0); }
 

@@ -10,10 +10,9 @@ FrozenConduction::FrozenConduction(std::vector<ConductanceLink> links, std::vect
   for (double c : capacity) inv_capacity_.push_back(1 / c);
 }
 
-void FrozenConduction::derivative(double t, const double* z, double* zdot) {
+void FrozenConduction::conduct(double t, const double* temp, double* zdot, bool walls) const {
   const int n = static_cast<int>(inv_capacity_.size());
   std::fill_n(zdot, ledger_ + n, 0.0);
-  const double* temp = z + ledger_;
   double* heat = zdot + ledger_;
   double from_walls = 0;
   for (const ConductanceLink& link : links_) {
@@ -22,13 +21,13 @@ void FrozenConduction::derivative(double t, const double* z, double* zdot) {
       heat[link.i] += q;
       heat[link.j] -= q;
     } else {
-      const double q = link.h * (walls_[-1 - link.j].at(t) - temp[link.i]);
+      const double q = link.h * ((walls ? walls_[-1 - link.j].at(t) : 0.0) - temp[link.i]);
       heat[link.i] += q;
       from_walls += q;
     }
   }
   for (int i = 0; i < n; ++i) heat[i] *= inv_capacity_[i];
-  zdot[ledger_heat_walls] = from_walls;
+  zdot[ledger_heat_walls] = walls ? from_walls : 0.0;
 }
 
 double FrozenConduction::stiffest_rate() const {

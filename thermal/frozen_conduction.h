@@ -6,6 +6,8 @@
 // state (the ledger, then the temperatures): the integrator is given a pointer into the full
 // state vector, so positions stay where they are and nothing is copied.
 #pragma once
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "integrators/integrator.h"
@@ -20,14 +22,28 @@ class FrozenConduction final : public OdeSystem {
                    std::vector<WallTemperature> walls, int ledger_entries);
   StateLayout layout() const override { return {0, ledger_ + static_cast<int>(inv_capacity_.size())}; }
   void prepare(double, const double*, double) override {}
-  void derivative(double t, const double* z, double* zdot) override;
+  void derivative(double t, const double* z, double* zdot) override { conduct(t, z + ledger_, zdot, true); }
   void accept(double) override {}
+  // IMEX: all of it is implicit (and linear).
+  bool has_implicit_part() const override { return true; }
+  void explicit_part(double, const double*, double* zdot) override { std::fill_n(zdot, layout().size(), 0.0); }
+  void implicit_part(double t, const double* z, double* zdot) override { derivative(t, z, zdot); }
+  void implicit_jacobian_times(double t, const double*, const double* v, double* jv) override {
+    conduct(t, v + ledger_, jv, false);
+  }
+  std::vector<double> absolute_tolerances(const StepControl& c) const override {
+    std::vector<double> atol(layout().size(), c.atol);
+    if (std::isfinite(c.atol_temperature)) std::fill(atol.begin() + ledger_, atol.end(), c.atol_temperature);
+    return atol;
+  }
 
   // Largest |eigenvalue| bound of C^-1 L (Gershgorin): explicit stepping is stable below 2 / it.
   double stiffest_rate() const;
   const std::vector<ConductanceLink>& links() const { return links_; }
 
  private:
+  // zdot from the temperatures `temp`; walls at their temperatures, or at 0 for the Jacobian.
+  void conduct(double t, const double* temp, double* zdot, bool walls) const;
   std::vector<ConductanceLink> links_;
   std::vector<double> inv_capacity_;
   std::vector<WallTemperature> walls_;

@@ -1,0 +1,151 @@
+#include "integrators/arkode.h"
+
+#include <cstdio>
+#include <stdexcept>
+
+#include <arkode/arkode_butcher.h>
+
+namespace kiln {
+
+namespace {
+
+void check(int flag, const char* what) {
+  if (flag < 0) throw std::runtime_error(std::string("ARKODE: ") + what + " failed (flag " + std::to_string(flag) + ")");
+}
+
+ArkodeIntegrator* self_of(void* p) { return static_cast<ArkodeIntegrator*>(p); }
+
+}  // namespace
+
+ArkodeIntegrator::ArkodeIntegrator(ArkodeMethod method, StepControl control)
+    : method_(std::move(method)), control_(control) {}
+
+ArkodeIntegrator::~ArkodeIntegrator() {
+  if (memory_) ARKStepFree(&memory_);
+  if (linear_solver_) SUNLinSolFree(linear_solver_);
+  if (state_) N_VDestroy(state_);
+  if (context_) SUNContext_Free(&context_);
+}
+
+int ArkodeIntegrator::explicit_rhs(double t, N_Vector y, N_Vector ydot, void* p) {
+  ArkodeIntegrator* self = self_of(p);
+  if (self->method_.dirk_table.empty())
+    self->system_->derivative(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
+  else
+    self->system_->explicit_part(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
+  return 0;
+}
+
+int ArkodeIntegrator::implicit_rhs(double t, N_Vector y, N_Vector ydot, void* p) {
+  self_of(p)->system_->implicit_part(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
+  return 0;
+}
+
+int ArkodeIntegrator::jacobian_times(N_Vector v, N_Vector jv, double t, N_Vector y, N_Vector, void* p, N_Vector) {
+  self_of(p)->system_->implicit_jacobian_times(t, N_VGetArrayPointer(y), N_VGetArrayPointer(v), N_VGetArrayPointer(jv));
+  return 0;
+}
+
+void ArkodeIntegrator::start(OdeSystem& system, double t0, double* y, double dt) {
+  system_ = &system;
+  y_ = y;
+  t_ = t0;
+  dt_ = dt;
+  const int n = system.layout().size();
+  scratch_.assign(n, 0.0);
+  check(SUNContext_Create(nullptr, &context_), "SUNContext_Create");
+  // The integrator works on the caller's state in place: no copy.
+  state_ = N_VMake_Serial(n, y, context_);
+  const bool imex = !method_.dirk_table.empty();
+  system.prepare(t0, y, dt);
+  memory_ = ARKStepCreate(explicit_rhs, imex ? implicit_rhs : nullptr, t0, state_, context_);
+  if (!memory_) throw std::runtime_error("ARKODE: ARKStepCreate failed");
+  check(ARKStepSetUserData(memory_, this), "SetUserData");
+  const std::string erk = "ARKODE_" + method_.erk_table;
+  const std::string dirk = imex ? "ARKODE_" + method_.dirk_table : "ARKODE_DIRK_NONE";
+  check(ARKStepSetTableName(memory_, dirk.c_str(), erk.c_str()), "SetTableName");
+  // Tolerances: adaptive runs use the user's; fixed-step runs only stop the implicit iterations
+  // with them, so they are tight there (the solver error must not hide the truncation error).
+  const bool adaptive = control_.rtol > 0;
+  StepControl tol = control_;
+  if (!adaptive) {
+    tol.rtol = 1e-12;
+    if (!(tol.atol > 0)) tol.atol = 1e-14;
+  } else if (!(tol.atol > 0)) {
+    tol.atol = 1e-3 * tol.rtol;
+  }
+  const std::vector<double> atol = system.absolute_tolerances(tol);
+  N_Vector atol_vector = N_VNew_Serial(n, context_);
+  std::copy(atol.begin(), atol.end(), N_VGetArrayPointer(atol_vector));
+  check(ARKStepSVtolerances(memory_, tol.rtol, atol_vector), "SVtolerances");
+  N_VDestroy(atol_vector);
+  if (adaptive) {
+    check(ARKStepSetInitStep(memory_, dt), "SetInitStep");
+  } else {
+    check(ARKStepSetFixedStep(memory_, dt), "SetFixedStep");
+  }
+  check(ARKStepSetMaxNumSteps(memory_, 0), "SetMaxNumSteps");
+  if (imex) {
+    linear_solver_ = SUNLinSol_SPGMR(state_, SUN_PREC_NONE, 0, context_);
+    check(ARKStepSetLinearSolver(memory_, linear_solver_, nullptr), "SetLinearSolver");
+    check(ARKStepSetJacTimes(memory_, nullptr, jacobian_times), "SetJacTimes");
+    check(ARKStepSetLinear(memory_, 1), "SetLinear");
+  }
+}
+
+void ArkodeIntegrator::set_stop_time(double t) {
+  stop_ = t;
+  check(ARKStepSetStopTime(memory_, t), "SetStopTime");
+}
+
+void ArkodeIntegrator::step() {
+  // Neighbour lists are fixed for the whole step: prepare them for the step about to be taken.
+  double h = dt_;
+  if (control_.rtol > 0) ARKStepGetCurrentStep(memory_, &h);
+  system_->prepare(t_, y_, h);
+  double reached = t_;
+  const int flag = ARKStepEvolve(memory_, stop_, state_, &reached, ARK_ONE_STEP);
+  if (flag < 0) {
+    char* name = ARKStepGetReturnFlagName(flag);
+    const std::string text = name ? name : "unknown";
+    free(name);
+    throw std::runtime_error("ARKODE step failed at t = " + std::to_string(t_) + ": " + text);
+  }
+  t_ = reached;
+  if (system_->has_history()) {
+    // The contact history of the accepted step comes from an evaluation at its end (the stages
+    // all saw the history committed at the step's start).
+    system_->prepare(t_, y_, 0);
+    system_->derivative(t_, y_, scratch_.data());
+    ++history_evals_;
+  }
+  system_->accept(t_);
+  refresh_stats();
+}
+
+void ArkodeIntegrator::refresh_stats() {
+  long steps = 0, fe = 0, fi = 0;
+  ARKStepGetNumSteps(memory_, &steps);
+  ARKStepGetNumRhsEvals(memory_, &fe, &fi);
+  stats_.steps = steps;
+  stats_.rhs_evals = fe + fi + history_evals_;
+}
+
+nlohmann::json ArkodeIntegrator::statistics() const {
+  long steps = 0, attempts = 0, fails = 0, fe = 0, fi = 0, newton = 0, linear = 0;
+  double last = 0;
+  ARKStepGetNumSteps(memory_, &steps);
+  ARKStepGetNumStepAttempts(memory_, &attempts);
+  ARKStepGetNumErrTestFails(memory_, &fails);
+  ARKStepGetNumRhsEvals(memory_, &fe, &fi);
+  ARKStepGetLastStep(memory_, &last);
+  if (!method_.dirk_table.empty()) {
+    ARKStepGetNumNonlinSolvIters(memory_, &newton);
+    ARKStepGetNumLinIters(memory_, &linear);
+  }
+  return {{"steps", steps},          {"attempts", attempts},       {"error_test_failures", fails},
+          {"rhs_evals_explicit", fe}, {"rhs_evals_implicit", fi},   {"rhs_evals_history", history_evals_},
+          {"newton_iterations", newton}, {"linear_iterations", linear}, {"last_step", last}};
+}
+
+}  // namespace kiln

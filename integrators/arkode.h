@@ -1,0 +1,57 @@
+// SUNDIALS 6.4.1 ARKODE integrators behind kiln's Integrator interface.
+//
+// Explicit tables run in ARKStep's explicit-only mode (no implicit table), never in ERKStep:
+// ERKStep of 6.4.1 treats every table whose last node is c = 1 as first-same-as-last even when
+// the last row of A differs from b (llnl/sundials#311, fixed in 6.7.0), which cuts the order of 9 of
+// the 15 tables (../shared/NUMERICS.md). IMEX pairs integrate the system's implicit part (heat
+// conduction, linear in the temperatures on a fixed candidate list) with one Newton iteration
+// (ARKStepSetLinear) and matrix-free GMRES (SPGMR) on the Jacobian-vector product the system
+// provides; everything else is explicit.
+#pragma once
+#include <arkode/arkode_arkstep.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_spgmr.h>
+
+#include <string>
+#include <vector>
+
+#include "integrators/integrator.h"
+
+namespace kiln {
+
+struct ArkodeMethod {
+  std::string erk_table;   // ARKODE name without the prefix, e.g. DORMAND_PRINCE_7_4_5
+  std::string dirk_table;  // empty for explicit methods
+};
+
+class ArkodeIntegrator final : public Integrator {
+ public:
+  ArkodeIntegrator(ArkodeMethod method, StepControl control);
+  ~ArkodeIntegrator() override;
+  void start(OdeSystem& system, double t0, double* y, double dt) override;
+  void step() override;
+  double time() const override { return t_; }
+  void set_stop_time(double t) override;
+  nlohmann::json statistics() const override;
+
+ private:
+  static int explicit_rhs(double t, N_Vector y, N_Vector ydot, void* self);
+  static int implicit_rhs(double t, N_Vector y, N_Vector ydot, void* self);
+  static int jacobian_times(N_Vector v, N_Vector jv, double t, N_Vector y, N_Vector fy, void* self, N_Vector tmp);
+  void refresh_stats();
+
+  ArkodeMethod method_;
+  StepControl control_;
+  OdeSystem* system_ = nullptr;
+  double* y_ = nullptr;
+  double t_ = 0, dt_ = 0, stop_ = INFINITY;
+  SUNContext context_ = nullptr;
+  N_Vector state_ = nullptr;
+  void* memory_ = nullptr;
+  SUNLinearSolver linear_solver_ = nullptr;
+  std::vector<double> scratch_;  // f at the end of a step, for contact history
+  long history_evals_ = 0;
+};
+
+}  // namespace kiln
