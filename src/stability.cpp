@@ -135,20 +135,24 @@ DtVerdict judge_dt(const StabilityEstimate& est, double dt, const Scene& scene) 
   DtVerdict v;
   std::ostringstream s;
   // Explicit conduction: certain for the network that exists at t = 0, an estimate otherwise.
-  if (scene.thermal && dt >= est.thermal_dt_limit_network) {
+  // IMEX integrators take conduction implicitly and have no such limit.
+  bool implicit_conduction = false;
+  for (const IntegratorInfo& info : integrator_catalogue())
+    implicit_conduction = implicit_conduction || (info.name == scene.integrator && info.implicit);
+  if (scene.thermal && !implicit_conduction && dt >= est.thermal_dt_limit_network) {
     s << "dt = " << dt << " s is beyond the explicit conduction limit " << est.thermal_dt_limit_network
       << " s of the contact network: the temperatures will blow up";
     v.unstable = true;
     v.warnings.push_back(s.str());
     return v;
   }
-  if (scene.thermal && dt >= est.thermal_dt_limit) {
+  if (scene.thermal && !implicit_conduction && dt >= est.thermal_dt_limit) {
     std::ostringstream w;
     w << "dt = " << dt << " s is beyond the explicit conduction limit " << est.thermal_dt_limit
       << " s of a dense packing at 1 % overlap: the temperatures may blow up once contacts form";
     v.warnings.push_back(w.str());
   }
-  if (scene.thermal && scene.freeze.enabled && scene.freeze.dt >= est.thermal_dt_limit) {
+  if (scene.thermal && !implicit_conduction && scene.freeze.enabled && scene.freeze.dt >= est.thermal_dt_limit) {
     std::ostringstream w;
     w << "freeze.dt = " << scene.freeze.dt << " s is beyond the explicit conduction limit " << est.thermal_dt_limit
       << " s of a dense packing at 1 % overlap";

@@ -1,0 +1,134 @@
+// ARKODE integrators on thermal and mechanical cases: IMEX orders, stiffness, adaptivity,
+// aliases, and contact history across the stages of a step.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "src/error.h"
+#include "src/overrides.h"
+#include "src/scene_yaml.h"
+#include "src/simulation.h"
+#include "src/stability.h"
+#include "tests/support.h"
+
+using namespace kiln;
+
+namespace {
+
+const double t4_capacity = 4.0 / 3.0 * M_PI * 8e-9 * 8900 * 172;
+const double t4_h = 2 * 385 * std::sqrt(0.39) * 1e-3;
+
+double t4_error(const std::vector<std::string>& sets) {
+  std::vector<std::string> all = {"t_end=0.1"};
+  all.insert(all.end(), sets.begin(), sets.end());
+  const auto s = run_scene(load_scene(testing::case_path("t4_two_particle_conduction.yaml"), all), {"", true});
+  const auto T = s["temperatures"].get<std::vector<double>>();
+  return std::abs((T[0] - T[1]) - 100 * std::exp(-2 * t4_h * 0.1 / t4_capacity));
+}
+
+}  // namespace
+
+TEST_CASE("every IMEX pair reaches its nominal order on T4's exact exponential", "[arkode]") {
+  for (const auto& info : integrator_catalogue()) {
+    if (!info.implicit || info.name.rfind("imex:", 0) != 0) continue;
+    const double h = info.order >= 5 ? 0.02 : 0.01;
+    const double e1 = t4_error({"integrator=" + info.name, assignment("dt", h)});
+    const double e2 = t4_error({"integrator=" + info.name, assignment("dt", h / 2)});
+    const double e3 = t4_error({"integrator=" + info.name, assignment("dt", h / 4)});
+    INFO(info.name << ": errors " << e1 << " " << e2 << " " << e3);
+    CHECK(testing::order(e2, e3) == Approx(info.order).margin(0.15));
+  }
+}
+
+TEST_CASE("adaptive runs of T4 meet the tolerance: the true error scales with rtol", "[arkode]") {
+  double previous = 0;
+  // One output frame, so that frames do not cap the step size.
+  for (double rtol : {1e-4, 1e-6, 1e-8}) {
+    const double err = t4_error({"integrator=erk5", assignment("rtol", rtol), "dt=1e-3", "output_interval=0.1"});
+    INFO("rtol " << rtol << ": error " << err);
+    CHECK(err < 100 * rtol * 10);  // within ten times the tolerance of the 100 C difference
+    if (previous > 0) CHECK(previous / err > 10);  // two decades of rtol buy more than one of error
+    previous = err;
+  }
+}
+
+TEST_CASE("a stiff conduction network: IMEX runs at the mechanical step, explicit schemes are stopped", "[arkode]") {
+  // Fine grains (r = 10 micrometres) of a soft, highly conductive material pressed in a line between
+  // two walls (static: every overlap is 2 micrometres, so all forces balance). The explicit
+  // conduction limit lies thousands of times below the step the contacts need.
+  const char* scene = R"(name: stiff
+gravity: [0, 0]
+conduction_model: lens
+materials:
+  powder: {density: 8900, stiffness: 0.1, restitution: 0.5, specific_heat: 172, conductivity: 1.0e6}
+particles:
+  - material: powder
+    radius: 1.0e-5
+    temperature: {x_split: 4.0e-5, left: 100, right: 0}
+    lattice: {kind: square, origin: [0, 0], spacing: 1.8e-5, rows: 1, columns: 6}
+walls:
+  - {material: powder, segment: [[-0.8e-5, -2.0e-5], [-0.8e-5, 2.0e-5]]}
+  - {material: powder, segment: [[9.8e-5, 2.0e-5], [9.8e-5, -2.0e-5]]}
+allow_overlap: true
+integrator: imex:ARK324L2SA
+dt: 5.0e-7
+t_end: 2.0e-5
+output_interval: 1.0e-6
+report: [temperatures]
+)";
+  const Scene imex = parse_scene(scene, "stiff.yaml");
+  const StabilityEstimate est = estimate_stability(imex);
+  INFO("thermal limit " << est.thermal_dt_limit_network << " s, mechanical recommendation " << est.recommended_dt << " s");
+  CHECK(est.thermal_dt_limit_network < imex.dt / 1000);
+  CHECK(imex.dt < est.recommended_dt);
+  const auto s = run_scene(imex, {"", true});
+  CHECK(s["temperature_max"].get<double>() <= 100);
+  CHECK(s["temperature_min"].get<double>() >= 0);
+  CHECK(s["temperature_max"].get<double>() - s["temperature_min"].get<double>() < 1);  // equalised
+  CHECK(s["integrator_stats"]["linear_iterations"].get<long>() > 0);
+  for (const char* explicit_scheme : {"erk4", "velocity-verlet"}) {
+    const Scene ex = parse_scene(scene, "stiff.yaml", {std::string("integrator=") + explicit_scheme});
+    CHECK(judge_dt(estimate_stability(ex), ex.dt, ex).unstable);
+    try {
+      run_scene(ex, {"", true});
+      FAIL(explicit_scheme << " was not stopped");
+    } catch (const InstabilityError& e) {
+      CHECK(std::string(e.what()).find("unstable run") != std::string::npos);
+    }
+  }
+}
+
+TEST_CASE("a table selected by alias and by name gives the same trajectory, bit for bit", "[arkode]") {
+  for (const auto& [alias, name] : std::vector<std::pair<std::string, std::string>>{
+           {"erk4", "erk:ZONNEVELD_5_3_4"}, {"erk5", "erk:DORMAND_PRINCE_7_4_5"}}) {
+    std::vector<std::vector<double>> states;
+    for (const std::string& n : {alias, name}) {
+      testing::Run run(testing::case_text("t1_free_fall.yaml"), {"integrator=" + n, "dt=2e-6"});
+      for (int k = 0; k < 20000; ++k) run.step();
+      states.push_back(run.y);
+    }
+    CHECK(states[0] == states[1]);
+  }
+}
+
+TEST_CASE("contact history is the same at every stage: C1 rolls at 2/3 g sin(theta) with Runge-Kutta", "[arkode]") {
+  // Every stage of a step sees the elongation committed at the step's start plus v_t times its
+  // own offset; the elongation is committed only from an evaluation at the accepted step's end.
+  for (const char* integrator : {"erk2", "erk4", "erk5"}) {
+    const auto s = run_scene(load_scene(testing::case_path("c1_incline_roll_slide.yaml"),
+                                        {std::string("integrator=") + integrator, "dt=2e-6"}),
+                             {"", true});
+    INFO(integrator);
+    CHECK(s["incline_acceleration"].get<double>() == Approx(2.0 / 3.0 * 9.81 * std::sin(20 * M_PI / 180)).epsilon(0.01));
+    CHECK(std::abs(s["slip_ratio"].get<double>()) < 0.01);
+    CHECK(s["integrator_stats"]["rhs_evals_history"].get<long>() == s["steps"].get<long>());
+  }
+}
+
+TEST_CASE("rtol with a scheme that cannot adapt is refused with the reason", "[arkode]") {
+  try {
+    parse_scene(testing::case_text("t1_free_fall.yaml"), "t1.yaml", {"rtol=1e-6"});
+    FAIL("accepted");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).find("cannot adapt") != std::string::npos);
+  }
+}
