@@ -24,7 +24,7 @@ struct NormalLaw {
 inline double normal_force(const NormalLaw& law, double overlap, double approach_speed) {
   double f;
   if (law.hertz) {
-    const double root = std::sqrt(overlap);
+    const double root = std::sqrt(std::fmax(overlap, 0.0));  // continued by 0 past separation
     f = law.k * overlap * root + law.c * std::sqrt(root) * approach_speed;
   } else {
     f = law.k * overlap + law.c * approach_speed;

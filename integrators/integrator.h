@@ -18,6 +18,9 @@ struct StepControl {
   double rtol = 0;
   double atol = 0;  // scalar absolute tolerance, for every field not given below
   double atol_position = NAN, atol_velocity = NAN, atol_angle = NAN, atol_temperature = NAN;
+  // Discontinuity locking: which contacts act is frozen within a step; each onset and release
+  // is located by root finding and the method restarts there (ARKODE integrators).
+  bool contact_events = false;
 };
 
 struct StateLayout {
@@ -50,6 +53,14 @@ class OdeSystem {
   virtual void implicit_jacobian_times(double, const double*, const double*, double* jv) {
     std::fill_n(jv, layout().size(), 0.0);
   }
+  // Contact events. event_functions() has one function per candidate contact, positive while
+  // it touches: a sign change is an onset or a release. Its count changes only in prepare().
+  // lock_contacts() fixes the set of acting contacts; after a located event `flips` holds +1/-1
+  // for the contacts that just started/ended, 0 elsewhere.
+  virtual int event_count() const { return 0; }
+  virtual void event_functions(double, const double*, double*) const {}
+  virtual void lock_contacts(double, const double*, const int* /*flips*/) {}
+
   // Absolute tolerances per component from the step control.
   virtual std::vector<double> absolute_tolerances(const StepControl& c) const {
     return std::vector<double>(layout().size(), c.atol);

@@ -16,6 +16,7 @@ struct ContactList {
   std::vector<double> k, c;     // normal law coefficients for this pair
   std::vector<double> kt, ct;   // tangential spring and dashpot for this pair
   std::vector<uint16_t> law;    // material-pair index (friction, rolling, law flags)
+  std::vector<uint8_t> active;  // contact events: acting within the current step (2: not yet known)
 
   int size() const { return static_cast<int>(i.size()); }
   // Takes the sorted candidate pairs; pairs present before keep their committed elongation.

@@ -61,6 +61,7 @@ DemSystem::DemSystem(const Scene& scene)
     rotates_ = rotates_ || scene.angular_velocity[i] != 0;
   }
   thermal_ = scene.thermal;
+  events_ = scene.control.contact_events;
   layout_.nq = (rotates_ ? 3 : 2) * n_;
   layout_.nz = ledger_count() + (thermal_ ? n_ : 0);
   heat_power_factor_friction_ = scene.heat_from_dissipation != HeatFromDissipation::none;
@@ -153,6 +154,7 @@ void DemSystem::rebuild(double t, const double* y) {
   broadphase_.wall_pairs(px, py, radius_.data(), n_, seg_a_, seg_b_, candidates_);
   pw_.replace(candidates_);
   set_coefficients(pw_, true);
+  if (events_) lock_contacts(t, y, nullptr);
   std::copy_n(px, n_, x_ref_.data());
   std::copy_n(py, n_, y_ref_.data());
   t_ref_ = t;
@@ -212,8 +214,8 @@ inline ContactForce contact_force(const contact::NormalLaw& nl, double overlap, 
   f.normal = contact::normal_force(nl, overlap, vn);
   f.damping_power = contact::normal_dissipation(nl, overlap, vn, f.normal);
   if (tangential) {
-    const double scale = nl.hertz ? std::sqrt(overlap) : 1.0;
-    const double cscale = nl.hertz ? std::sqrt(std::sqrt(overlap)) : 1.0;
+    const double scale = nl.hertz ? std::sqrt(std::fmax(overlap, 0.0)) : 1.0;
+    const double cscale = nl.hertz ? std::sqrt(scale) : 1.0;
     const auto t = contact::tangential_force({kt * scale, ct * cscale, mu}, spring, vt, dt_hist, f.normal);
     f.tangential = t.force;
     f.friction_power = t.dissipation;
@@ -258,7 +260,9 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
     const double dx = s.x[j] - s.x[i], dy = s.y[j] - s.y[i];
     const double rsum = radius_[i] + radius_[j];
     const double d2 = dx * dx + dy * dy;
-    if (d2 >= rsum * rsum) {
+    // With contact events the acting set is locked for the step: an acting contact keeps its
+    // (continued) law past separation until its release is located, a new one waits for its onset.
+    if (events_ ? !pp_.active[p] : d2 >= rsum * rsum) {
       friction += release(pp_, p, dt_hist);
       continue;
     }
@@ -318,7 +322,8 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
     const int i = pw_.i[p], sgi = pw_.j[p];
     const double r = radius_[i];
     WallHit hit;
-    if (!disc_segment_contact(scene_.segments, seg_a_, seg_b_, sgi, {s.x[i], s.y[i]}, r, hit)) {
+    if ((events_ && !pw_.active[p]) ||
+        !disc_segment_contact(scene_.segments, seg_a_, seg_b_, sgi, {s.x[i], s.y[i]}, r, hit, events_)) {
       friction += release(pw_, p, dt_hist);
       continue;
     }
@@ -443,6 +448,45 @@ EnergyLedger DemSystem::energy(double t, const double* y) const {
     e.heat_from_dissipation = ledger[ledger_heat_generated];
   }
   return e;
+}
+
+double DemSystem::pair_overlap(const double* px, const double* py, int p) const {
+  const int i = pp_.i[p], j = pp_.j[p];
+  return radius_[i] + radius_[j] - std::hypot(px[j] - px[i], py[j] - py[i]);
+}
+
+double DemSystem::wall_overlap(const double* px, const double* py, const std::vector<Vec2>& a,
+                               const std::vector<Vec2>& b, int p) const {
+  const int i = pw_.i[p];
+  WallHit hit;
+  // A vertex owned by the neighbouring segment is no contact of this one: always apart.
+  return disc_segment_contact(scene_.segments, a, b, pw_.j[p], {px[i], py[i]}, radius_[i], hit, true) ? hit.overlap
+                                                                                                     : -radius_[i];
+}
+
+void DemSystem::event_functions(double t, const double* y, double* g) const {
+  const double *px = y + x_at(), *py = y + y_at();
+  std::vector<Vec2> a, b;
+  wall_geometry(t, a, b);
+  for (int p = 0; p < pp_.size(); ++p) g[p] = pair_overlap(px, py, p);
+  for (int p = 0; p < pw_.size(); ++p) g[pp_.size() + p] = wall_overlap(px, py, a, b, p);
+}
+
+void DemSystem::lock_contacts(double t, const double* y, const int* flips) {
+  // After a located event the root finder's directions decide (the overlap there is ~0);
+  // contacts not known yet (the start, new candidates) act where their overlap is positive.
+  const double *px = y + x_at(), *py = y + y_at();
+  std::vector<Vec2> a, b;
+  wall_geometry(t, a, b);
+  for (int p = 0; p < pp_.size(); ++p) {
+    if (flips && flips[p]) pp_.active[p] = flips[p] > 0;
+    if (pp_.active[p] == 2) pp_.active[p] = pair_overlap(px, py, p) > 0;
+  }
+  for (int p = 0; p < pw_.size(); ++p) {
+    const int k = pp_.size() + p;
+    if (flips && flips[k]) pw_.active[p] = flips[k] > 0;
+    if (pw_.active[p] == 2) pw_.active[p] = wall_overlap(px, py, a, b, p) > 0;
+  }
 }
 
 std::vector<double> DemSystem::absolute_tolerances(const StepControl& c) const {

@@ -60,6 +60,10 @@ class DemSystem final : public OdeSystem {
     evaluate(t, y, jv, Part::jacobian, v + temperature_at());
   }
   std::vector<double> absolute_tolerances(const StepControl& c) const override;
+  // Contact events: one function per candidate contact, its overlap (onset when it rises through 0).
+  int event_count() const override { return events_ ? pp_.size() + pw_.size() : 0; }
+  void event_functions(double t, const double* y, double* g) const override;
+  void lock_contacts(double t, const double* y, const int* flips) override;
 
   std::vector<double> initial_state() const;
   int particles() const { return n_; }
@@ -111,6 +115,10 @@ class DemSystem final : public OdeSystem {
   enum class Part { all, explicit_only, implicit_only, jacobian };
   void evaluate(double t, const double* y, double* ydot, Part part, const double* temps);
   void rebuild(double t, const double* y);
+  // Overlap of candidate contact p of the pp list (walls: of pw), negative when apart.
+  double pair_overlap(const double* px, const double* py, int p) const;
+  double wall_overlap(const double* px, const double* py, const std::vector<Vec2>& a, const std::vector<Vec2>& b,
+                      int p) const;
   void set_coefficients(ContactList& list, bool walls);
   void update_walls(double t);
   double release(ContactList& list, int p, double dt_hist) const;
@@ -121,6 +129,7 @@ class DemSystem final : public OdeSystem {
   bool moving_walls_ = false;
   bool thermal_ = false;
   bool has_tangential_ = false;
+  bool events_ = false;  // contact events: the acting set is locked within a step
   double heat_power_factor_damping_ = 0, heat_power_factor_friction_ = 0;  // 1 when that dissipation heats
   std::vector<double> capacity_, inv_capacity_;
   StateLayout layout_;

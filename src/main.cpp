@@ -21,6 +21,7 @@ struct SceneArgs {
   std::string path;
   std::string integrator;
   double dt = 0, t_end = 0, rtol = 0, atol = 0;
+  bool contact_events = false;
   std::vector<std::string> sets;
 };
 
@@ -32,6 +33,7 @@ kiln::Scene load(const SceneArgs& a) {
   if (a.t_end > 0) sets.push_back(kiln::assignment("t_end", a.t_end));
   if (a.rtol > 0) sets.push_back(kiln::assignment("rtol", a.rtol));
   if (a.atol > 0) sets.push_back(kiln::assignment("atol", a.atol));
+  if (a.contact_events) sets.push_back("contact_events=true");
   kiln::Scene scene = kiln::load_scene(a.path, sets);
   kiln::make_integrator(scene.integrator, scene.control);  // an unknown name fails before anything runs
   return scene;
@@ -46,6 +48,8 @@ void add_scene_options(CLI::App* cmd, SceneArgs& a) {
       ->check(CLI::PositiveNumber);
   cmd->add_option("--atol", a.atol, "absolute tolerance (per field: --set atol.temperature=...)")
       ->check(CLI::PositiveNumber);
+  cmd->add_flag("--contact-events", a.contact_events,
+                "lock the acting contacts within a step, locate onsets and releases, restart there (ARKODE)");
   cmd->add_option("--set", a.sets, "override a scene value by dotted path: KEY=VALUE")->take_all();
 }
 

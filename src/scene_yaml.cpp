@@ -446,7 +446,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   const auto overridden = std::make_shared<const std::set<std::string>>(apply_overrides(doc, overrides));
   const SceneNode root(doc, "", file, overridden);
   root.allow({"name", "description", "mass_model", "thickness", "gravity", "materials", "contact_model", "contacts",
-              "conduction_model", "heat_from_dissipation", "mechanics", "freeze", "particles", "walls", "integrator", "rtol", "atol", "dt",
+              "conduction_model", "heat_from_dissipation", "mechanics", "freeze", "particles", "walls", "integrator", "rtol", "atol", "contact_events", "dt",
               "t_end", "output_interval", "skin", "allow_overlap", "checks", "stop", "report"});
   Scene scene;
   scene.file = file;
@@ -491,6 +491,12 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
     } else {
       scene.control.atol = a->positive();
     }
+  }
+  if (auto e = root.optional("contact_events")) {
+    scene.control.contact_events = e->boolean();
+    if (scene.control.contact_events && scene.integrator.find(':') == std::string::npos &&
+        scene.integrator.rfind("erk", 0) != 0 && scene.integrator.rfind("imex", 0) != 0)
+      e->fail("contact events need an ARKODE integrator (erk:..., imex:...), not '" + scene.integrator + "'");
   }
   if (scene.control.rtol > 0) {
     bool adapts = false;

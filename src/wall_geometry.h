@@ -21,14 +21,16 @@ std::vector<Vec2> arc_points(Vec2 centre, double radius, double from, double to,
 // A vertex shared by two segments belongs to one of them: the later segment (its end a), and only
 // when the disc lies beyond the neighbour's face too; otherwise the neighbour's face carries the
 // contact. So a disc resting on a polyline joint feels one force, not two [thesis Annex A:
-// segment walls with their end points]. Returns false when this segment carries no contact.
+// segment walls with their end points]. Returns false when this segment carries no contact; with
+// `apart_too`, a disc clear of the face still gets its hit (negative overlap), for contact events.
 struct WallHit {
   Vec2 closest;      // contact point on the wall
   Vec2 normal;       // unit, from the disc centre towards the wall
   double overlap = 0;
 };
 inline bool disc_segment_contact(const std::vector<Segment>& segments, const std::vector<Vec2>& a,
-                          const std::vector<Vec2>& b, int s, Vec2 c, double r, WallHit& hit) {
+                          const std::vector<Vec2>& b, int s, Vec2 c, double r, WallHit& hit,
+                          bool apart_too = false) {
   const Segment& seg = segments[s];
   const Vec2 ab = b[s] - a[s];
   const double along = dot(c - a[s], ab) / dot(ab, ab);
@@ -37,7 +39,7 @@ inline bool disc_segment_contact(const std::vector<Segment>& segments, const std
   hit.closest = a[s] + std::clamp(along, 0.0, 1.0) * ab;
   const Vec2 d = hit.closest - c;
   const double dist2 = dot(d, d);
-  if (dist2 >= r * r) return false;
+  if (dist2 >= r * r && !apart_too) return false;
   const double dist = std::sqrt(dist2);
   hit.normal = (1 / dist) * d;
   hit.overlap = r - dist;

@@ -28,7 +28,7 @@ struct Run {
       : scene(parse_scene(yaml, "test.yaml", sets)) {
     system = std::make_unique<DemSystem>(scene);
     y = system->initial_state();
-    integrator = make_integrator(scene.integrator);
+    integrator = make_integrator(scene.integrator, scene.control);
     integrator->start(*system, 0, y.data(), scene.dt);
   }
   double t() const { return integrator->time(); }
