@@ -106,20 +106,30 @@ void ArkodeIntegrator::step() {
   if (control_.rtol > 0) ARKStepGetCurrentStep(memory_, &h);
   system_->prepare(t_, y_, h);
   const double t_start = t_;
+  step_start_.assign(y_, y_ + scratch_.size());
   if (control_.contact_events) {
-    step_start_.assign(y_, y_ + scratch_.size());
     events_start_.resize(system_->event_count());
     system_->event_functions(t_start, y_, events_start_.data());
   }
-  double reached = t_;
-  const int flag = ARKStepEvolve(memory_, stop_, state_, &reached, ARK_ONE_STEP);
-  if (flag < 0) {
-    char* name = ARKStepGetReturnFlagName(flag);
-    const std::string text = name ? name : "unknown";
-    free(name);
-    throw std::runtime_error("ARKODE step failed at t = " + std::to_string(t_) + ": " + text);
+  evolve_one_step();
+  if (!system_->neighbours_cover(t_, y_)) {
+    // The step outran the neighbour lists: redo it from its start with lists rebuilt there (the
+    // lists then cover twice the distance the redone step can travel).
+    std::copy(step_start_.begin(), step_start_.end(), y_);
+    t_ = t_start;
+    system_->rebuild_neighbours(t_start, y_);
+    if (control_.contact_events) {
+      events_start_.resize(system_->event_count());
+      system_->event_functions(t_start, y_, events_start_.data());
+    }
+    check(ARKStepReset(memory_, t_start, state_), "Reset");
+    if (std::isfinite(stop_)) check(ARKStepSetStopTime(memory_, stop_), "SetStopTime");
+    evolve_one_step();
+    ++neighbour_redos_;
+    if (!system_->neighbours_cover(t_, y_))
+      throw std::runtime_error("ARKODE: a step of " + std::to_string(t_ - t_start) +
+                               " s moves particles farther than the neighbour skin; lower dt (or rtol)");
   }
-  t_ = reached;
   if (control_.contact_events && locate_event(t_start)) {
     // A contact started or ended inside the step: the state is now the step retaken from its
     // start to just past that instant. The acting set changes there and the method restarts,
@@ -138,6 +148,18 @@ void ArkodeIntegrator::step() {
   }
   system_->accept(t_);
   refresh_stats();
+}
+
+void ArkodeIntegrator::evolve_one_step() {
+  double reached = t_;
+  const int flag = ARKStepEvolve(memory_, stop_, state_, &reached, ARK_ONE_STEP);
+  if (flag < 0) {
+    char* name = ARKStepGetReturnFlagName(flag);
+    const std::string text = name ? name : "unknown";
+    free(name);
+    throw std::runtime_error("ARKODE step failed at t = " + std::to_string(t_) + ": " + text);
+  }
+  t_ = reached;
 }
 
 // Whether any event function changed sign between g0 and g; the directions go to flips_.
@@ -207,7 +229,7 @@ nlohmann::json ArkodeIntegrator::statistics() const {
   return {{"steps", steps},          {"attempts", attempts},       {"error_test_failures", fails},
           {"rhs_evals_explicit", fe}, {"rhs_evals_implicit", fi},   {"rhs_evals_history", history_evals_},
           {"newton_iterations", newton}, {"linear_iterations", linear}, {"last_step", last},
-          {"contact_events", events_located_}};
+          {"contact_events", events_located_}, {"neighbour_redos", neighbour_redos_}};
 }
 
 }  // namespace kiln

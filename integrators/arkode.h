@@ -40,6 +40,7 @@ class ArkodeIntegrator final : public Integrator {
   static int implicit_rhs(double t, N_Vector y, N_Vector ydot, void* self);
   static int jacobian_times(N_Vector v, N_Vector jv, double t, N_Vector y, N_Vector fy, void* self, N_Vector tmp);
   void refresh_stats();
+  void evolve_one_step();
   bool locate_event(double t_start);
   bool crossed(const std::vector<double>& g0, const std::vector<double>& g);
   void retake(double t_start, double h);
@@ -57,8 +58,9 @@ class ArkodeIntegrator final : public Integrator {
   long history_evals_ = 0;
   std::vector<double> events_start_;  // event functions at the step's start
   std::vector<int> flips_;       // +1 onset, -1 release, per candidate contact, of a located event
-  std::vector<double> step_start_;  // the state a step started from (contact events)
+  std::vector<double> step_start_;  // the state a step started from
   long events_located_ = 0;
+  long neighbour_redos_ = 0;
 };
 
 }  // namespace kiln

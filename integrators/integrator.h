@@ -39,6 +39,10 @@ class OdeSystem {
   virtual void prepare(double t, const double* y, double lookahead) = 0;
   // ydot = f(t, y). Must not change anything a later evaluation depends on.
   virtual void derivative(double t, const double* y, double* ydot) = 0;
+  // Whether the neighbour lists built in prepare() still cover state y (multi-stage methods check
+  // after each step; a step that outran them is redone with lists rebuilt at its start).
+  virtual bool neighbours_cover(double, const double*) const { return true; }
+  virtual void rebuild_neighbours(double, const double*) {}
   // The step ending at time t is accepted: contact history from its last evaluation is kept.
   virtual void accept(double t) = 0;
   // True when accept() keeps history that must come from an evaluation at the step's end.

@@ -118,12 +118,15 @@ void DemSystem::update_walls(double t) {
 }
 
 void DemSystem::prepare(double t, const double* y, double lookahead) {
-  if (!built_) {
-    rebuild(t, y);
-    return;
-  }
-  // Verlet-list criterion: no pair can have closed a gap of one skin since the last rebuild if
-  // every particle moved less than half a skin (and a particle plus its wall less than a skin).
+  if (!built_ || !covers(t, y, lookahead)) rebuild(t, y);
+}
+
+bool DemSystem::neighbours_cover(double t, const double* y) const { return built_ && covers(t, y, 0); }
+
+// Verlet-list criterion: no pair can have closed a gap of one skin since the last rebuild if
+// every particle moved less than half a skin (and a particle plus its wall less than a skin).
+// Within a multi-stage step positions may wander ahead by about lookahead * |v|: counted twice.
+bool DemSystem::covers(double t, const double* y, double lookahead) const {
   const double* px = y + x_at();
   const double* py = y + y_at();
   const double* vx = y + vx_at();
@@ -134,14 +137,13 @@ void DemSystem::prepare(double t, const double* y, double lookahead) {
     d2max = std::max(d2max, dx * dx + dy * dy);
     v2max = std::max(v2max, vx[i] * vx[i] + vy[i] * vy[i]);
   }
-  // Within a multi-stage step positions may wander ahead by about lookahead * |v|: count it twice.
   const double moved = std::sqrt(d2max) + 2 * lookahead * std::sqrt(v2max);
   double wall_moved = 0;
   for (size_t w = 0; w < scene_.walls.size(); ++w)
     wall_moved = std::max(wall_moved, wall_max_displacement(scene_.walls[w].motion, scene_.segments,
                                                             static_cast<int>(w), t_ref_, t + lookahead));
   const double skin = broadphase_.skin();
-  if (!(2 * moved < skin && moved + wall_moved < skin)) rebuild(t, y);
+  return 2 * moved < skin && moved + wall_moved < skin;
 }
 
 void DemSystem::rebuild(double t, const double* y) {

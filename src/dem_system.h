@@ -45,6 +45,8 @@ class DemSystem final : public OdeSystem {
 
   StateLayout layout() const override { return layout_; }
   void prepare(double t, const double* y, double lookahead) override;
+  bool neighbours_cover(double t, const double* y) const override;
+  void rebuild_neighbours(double t, const double* y) override { rebuild(t, y); }
   void derivative(double t, const double* y, double* ydot) override { evaluate(t, y, ydot, Part::all, nullptr); }
   void accept(double t) override;
   bool has_history() const override { return has_tangential_; }
@@ -115,6 +117,7 @@ class DemSystem final : public OdeSystem {
   enum class Part { all, explicit_only, implicit_only, jacobian };
   void evaluate(double t, const double* y, double* ydot, Part part, const double* temps);
   void rebuild(double t, const double* y);
+  bool covers(double t, const double* y, double lookahead) const;
   // Overlap of candidate contact p of the pp list (walls: of pw), negative when apart.
   double pair_overlap(const double* px, const double* py, int p) const;
   double wall_overlap(const double* px, const double* py, const std::vector<Vec2>& a, const std::vector<Vec2>& b,
