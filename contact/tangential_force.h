@@ -28,9 +28,10 @@ struct TangentialResult {
 };
 
 // `spring` is the committed elongation, `slip_speed` the tangential relative velocity of i with
-// respect to j along t, `dt` the time since the elongation was committed, `normal` = F_n >= 0.
+// respect to j along t, `dt` the time since the elongation was committed (and `inv_dt` its
+// reciprocal, 0 when dt = 0: hoisted out of the contact loop), `normal` = F_n >= 0.
 inline TangentialResult tangential_force(const TangentialLaw& law, double spring, double slip_speed, double dt,
-                                         double normal) {
+                                         double inv_dt, double normal) {
   TangentialResult r;
   r.spring = spring + slip_speed * dt;
   r.force = -law.k * r.spring - law.c * slip_speed;
@@ -41,7 +42,7 @@ inline TangentialResult tangential_force(const TangentialLaw& law, double spring
     r.sliding = true;
   }
   if (dt > 0) {
-    r.dissipation = -r.force * slip_speed - 0.5 * law.k * (r.spring * r.spring - spring * spring) / dt;
+    r.dissipation = -r.force * slip_speed - 0.5 * law.k * (r.spring * r.spring - spring * spring) * inv_dt;
   } else {  // at the committed instant itself: the instantaneous rate
     r.dissipation = r.sliding ? -r.force * slip_speed : law.c * slip_speed * slip_speed;
   }

@@ -211,14 +211,14 @@ struct ContactForce {
 
 inline ContactForce contact_force(const contact::NormalLaw& nl, double overlap, double vn, double vt, double kt,
                                   double ct, double mu, bool tangential, double spring, double dt_hist,
-                                  double& trial) {
+                                  double inv_dt_hist, double& trial) {
   ContactForce f;
   f.normal = contact::normal_force(nl, overlap, vn);
   f.damping_power = contact::normal_dissipation(nl, overlap, vn, f.normal);
   if (tangential) {
     const double scale = nl.hertz ? std::sqrt(std::fmax(overlap, 0.0)) : 1.0;
     const double cscale = nl.hertz ? std::sqrt(scale) : 1.0;
-    const auto t = contact::tangential_force({kt * scale, ct * cscale, mu}, spring, vt, dt_hist, f.normal);
+    const auto t = contact::tangential_force({kt * scale, ct * cscale, mu}, spring, vt, dt_hist, inv_dt_hist, f.normal);
     f.tangential = t.force;
     f.friction_power = t.dissipation;
     trial = t.spring;
@@ -245,6 +245,7 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
   std::fill_n(ydot + nq, nq, 0.0);
   if (moving_walls_) update_walls(t);
   const double dt_hist = t - t_committed_;
+  const double inv_dt_hist = dt_hist > 0 ? 1 / dt_hist : 0.0;
   double damping = 0, friction = 0, walls_work = 0, worst = 0;
   // Heat: temperatures and their rates (thermal scenes only), split for IMEX into conduction
   // (implicit) and heat from dissipation (explicit).
@@ -282,7 +283,7 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
     const double vn = rvx * nx + rvy * ny;   // approach speed
     const double vt = -rvx * ny + rvy * nx;  // slip along t = perp(n)
     const ContactForce f = contact_force({pp_.k[p], pp_.c[p], lf.hertz, lf.tension}, overlap, vn, vt, pp_.kt[p],
-                                         pp_.ct[p], lf.mu, lf.tangential, pp_.spring[p], dt_hist, pp_.trial[p]);
+                                         pp_.ct[p], lf.mu, lf.tangential, pp_.spring[p], dt_hist, inv_dt_hist, pp_.trial[p]);
     const double fx = -f.normal * nx - f.tangential * ny;
     const double fy = -f.normal * ny + f.tangential * nx;
     s.fx[i] += fx;
@@ -343,7 +344,7 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
     const double vn = rvx * n.x + rvy * n.y;
     const double vt = -rvx * n.y + rvy * n.x;
     const ContactForce f = contact_force({pw_.k[p], pw_.c[p], lf.hertz, lf.tension}, overlap, vn, vt, pw_.kt[p],
-                                         pw_.ct[p], lf.mu, lf.tangential, pw_.spring[p], dt_hist, pw_.trial[p]);
+                                         pw_.ct[p], lf.mu, lf.tangential, pw_.spring[p], dt_hist, inv_dt_hist, pw_.trial[p]);
     const double fx = -f.normal * n.x - f.tangential * n.y;
     const double fy = -f.normal * n.y + f.tangential * n.x;
     s.fx[i] += fx;

@@ -58,19 +58,19 @@ TEST_CASE("contact durations: linear pi/omega_d, Hertz 2.87 (m^2/(k^2 v))^(1/5)"
 TEST_CASE("tangential spring sticks below mu Fn and slides at the Coulomb limit", "[contact]") {
   const TangentialLaw law{1000, 0.1, 0.5};
   // Sticking: elongation grows by v dt, force -k s - c v, dissipation only in the dashpot.
-  auto stick = tangential_force(law, 1e-5, 0.01, 1e-4, 10.0);
+  auto stick = tangential_force(law, 1e-5, 0.01, 1e-4, 1e4, 10.0);
   CHECK_FALSE(stick.sliding);
   CHECK(stick.spring == Approx(1e-5 + 1e-6));
   CHECK(stick.force == Approx(-1000 * 1.1e-5 - 0.1 * 0.01));
   // Sliding: force capped at mu Fn, the spring alone set to carry it.
-  auto slide = tangential_force(law, 1e-2, 0.5, 1e-4, 1.0);
+  auto slide = tangential_force(law, 1e-2, 0.5, 1e-4, 1e4, 1.0);
   CHECK(slide.sliding);
   CHECK(std::abs(slide.force) == Approx(0.5));
   CHECK(-law.k * slide.spring == Approx(slide.force));
   // Slip power minus stored spring energy: the ledger's dissipation is never negative when sliding.
   CHECK(slide.dissipation > 0);
   // A tensile normal force carries no friction.
-  CHECK(tangential_force(law, 1e-3, 0.1, 1e-4, -2.0).force == 0.0);
+  CHECK(tangential_force(law, 1e-3, 0.1, 1e-4, 1e4, -2.0).force == 0.0);
 }
 
 TEST_CASE("rolling resistance opposes the relative spin with mu_r R* Fn", "[contact]") {
