@@ -26,8 +26,6 @@ void ContactList::replace(const std::vector<CandidatePair>& fresh) {
   trial = spring;
   k.resize(n);
   c.resize(n);
-  kt.resize(n);
-  ct.resize(n);
   law.resize(n);
 }
 

@@ -13,8 +13,7 @@ struct ContactList {
   std::vector<int> i, j;        // particle i; particle j (i < j) or segment j
   std::vector<double> spring;   // committed tangential elongation (m)
   std::vector<double> trial;    // elongation at the latest derivative evaluation
-  std::vector<double> k, c;     // normal law coefficients for this pair
-  std::vector<double> kt, ct;   // tangential spring and dashpot for this pair
+  std::vector<double> k, c;     // normal law coefficients for this pair (k_t, c_t are fixed ratios)
   std::vector<uint16_t> law;    // material-pair index (friction, rolling, law flags)
   std::vector<uint8_t> active;  // contact events: acting within the current step (2: not yet known)
 

@@ -42,6 +42,8 @@ DemSystem::DemSystem(const Scene& scene)
       f.tension = law.tension;
       f.tangential = law.friction > 0;
       f.rolling = law.rolling_friction > 0;
+      f.kt_ratio = law.tangential_stiffness_ratio * (f.hertz ? 1.5 : 1.0);
+      f.ct_ratio = law.tangential_damping_ratio;
       f.beta = law.damping_rate > 0 ? 0 : contact::restitution_damping(law.restitution, f.hertz, f.tension);
       const Material &ma = scene.materials[a], &mb = scene.materials[b];
       f.conduction = {law.conduction, ma.conductivity, mb.conductivity, law.conductance, law.modulus_ratio,
@@ -180,10 +182,6 @@ void DemSystem::set_coefficients(ContactList& list, bool walls) {
     list.law[p] = static_cast<uint16_t>(mi * nm + mj);
     list.k[p] = k;
     list.c[p] = c;
-    // Hertz pairs: k_t and c_t scale with the contact's linearised normal stiffness, 3/2 k delta^1/2,
-    // applied per evaluation (dem_system derivative).
-    list.kt[p] = law.tangential_stiffness_ratio * (f.hertz ? 1.5 * k : k);
-    list.ct[p] = law.tangential_damping_ratio * c;
   }
 }
 
@@ -234,7 +232,7 @@ double DemSystem::release(ContactList& list, int p, double dt_hist) const {
   list.trial[p] = 0;
   const LawFlags& lf = flags_[list.law[p]];
   if (!lf.tangential || lf.hertz || list.spring[p] == 0) return 0;
-  return contact::release_dissipation({list.kt[p], 0, 0}, list.spring[p], dt_hist);
+  return contact::release_dissipation({lf.kt_ratio * list.k[p], 0, 0}, list.spring[p], dt_hist);
 }
 
 void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, const double* temps) {
@@ -282,8 +280,8 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
     }
     const double vn = rvx * nx + rvy * ny;   // approach speed
     const double vt = -rvx * ny + rvy * nx;  // slip along t = perp(n)
-    const ContactForce f = contact_force({pp_.k[p], pp_.c[p], lf.hertz, lf.tension}, overlap, vn, vt, pp_.kt[p],
-                                         pp_.ct[p], lf.mu, lf.tangential, pp_.spring[p], dt_hist, inv_dt_hist, pp_.trial[p]);
+    const ContactForce f = contact_force({pp_.k[p], pp_.c[p], lf.hertz, lf.tension}, overlap, vn, vt,
+                                         lf.kt_ratio * pp_.k[p], lf.ct_ratio * pp_.c[p], lf.mu, lf.tangential, pp_.spring[p], dt_hist, inv_dt_hist, pp_.trial[p]);
     const double fx = -f.normal * nx - f.tangential * ny;
     const double fy = -f.normal * ny + f.tangential * nx;
     s.fx[i] += fx;
@@ -343,8 +341,8 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
     }
     const double vn = rvx * n.x + rvy * n.y;
     const double vt = -rvx * n.y + rvy * n.x;
-    const ContactForce f = contact_force({pw_.k[p], pw_.c[p], lf.hertz, lf.tension}, overlap, vn, vt, pw_.kt[p],
-                                         pw_.ct[p], lf.mu, lf.tangential, pw_.spring[p], dt_hist, inv_dt_hist, pw_.trial[p]);
+    const ContactForce f = contact_force({pw_.k[p], pw_.c[p], lf.hertz, lf.tension}, overlap, vn, vt,
+                                         lf.kt_ratio * pw_.k[p], lf.ct_ratio * pw_.c[p], lf.mu, lf.tangential, pw_.spring[p], dt_hist, inv_dt_hist, pw_.trial[p]);
     const double fx = -f.normal * n.x - f.tangential * n.y;
     const double fy = -f.normal * n.y + f.tangential * n.x;
     s.fx[i] += fx;
@@ -425,7 +423,7 @@ EnergyLedger DemSystem::energy(double t, const double* y) const {
     const LawFlags& lf = flags_[list.law[p]];
     normal_elastic += contact::normal_elastic_energy({list.k[p], list.c[p], lf.hertz, lf.tension}, overlap);
     if (lf.tangential) {
-      const double kt = list.kt[p] * (lf.hertz ? std::sqrt(overlap) : 1.0);
+      const double kt = lf.kt_ratio * list.k[p] * (lf.hertz ? std::sqrt(overlap) : 1.0);
       tangential_elastic += contact::tangential_elastic_energy({kt, 0, 0}, list.spring[p]);
     }
   };

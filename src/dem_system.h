@@ -108,6 +108,7 @@ class DemSystem final : public OdeSystem {
  private:
   struct LawFlags {
     double mu = 0, mu_roll = 0, beta = 0;
+    double kt_ratio = 0, ct_ratio = 0;  // k_t = kt_ratio k (Hertz: of 3/2 k), c_t = ct_ratio c
     bool hertz = false, tension = true, tangential = false, rolling = false;
     thermal::ConductionLaw conduction;  // from the first material to the second
     double heat_share = 0.5;            // share of frictional heat for the first material's body
