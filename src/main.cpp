@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "integrators/integrator.h"
 #include "src/bench.h"
@@ -14,6 +15,7 @@
 #include "src/scene_yaml.h"
 #include "src/simulation.h"
 #include "src/stability.h"
+#include "src/study_order.h"
 
 namespace {
 
@@ -144,6 +146,21 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   bench_cmd->add_option("--steps", bench.steps, "timed steps")->check(CLI::PositiveNumber);
   bench_cmd->add_flag("--flowing", bench.flowing, "tilt gravity 30 degrees toward +x");
+  kiln::OrderOptions order;
+  std::string order_integrators;
+  CLI::App* order_cmd = app.add_subcommand("order", "observed orders of integrators on a scene (order.json, .csv, .png)");
+  order_cmd->add_option("scene", order.scene, "scene file (YAML)")->required()->check(CLI::ExistingFile);
+  order_cmd->add_option("--integrators", order_integrators, "comma-separated names (see 'kiln integrators')")->required();
+  order_cmd->add_option("--dt", order.dt, "the coarsest step (s)")->required()->check(CLI::PositiveNumber);
+  order_cmd->add_option("--levels", order.levels, "number of step sizes")->check(CLI::Range(2, 30));
+  order_cmd->add_option("--ratio", order.ratio, "dt_{k+1} = dt_k / ratio (default 2)");
+  order_cmd->add_option("--quantity", order.quantity, "position, velocity, temperature or a case quantity");
+  order_cmd->add_option("--reference", order.reference, "analytic | richardson | fine");
+  order_cmd->add_option("--t-end", order.t_end, "end time (s); default the scene's")->check(CLI::PositiveNumber);
+  order_cmd->add_option("--out", order.out_dir, "output directory (default out/<scene name>/order)");
+  order_cmd->add_option("--threads", order.threads, "worker threads (default: every core)")->check(CLI::PositiveNumber);
+  order_cmd->add_option("--set", order.sets, "override a scene value: KEY=VALUE")->take_all();
+  order_cmd->add_flag("--quiet", order.quiet, "no table");
   CLI11_PARSE(app, argc, argv);
   try {
     if (*run_cmd) return run(run_args, out, quiet);
@@ -151,6 +168,14 @@ int main(int argc, char** argv) {
     if (*cases_cmd) return list_cases();
     if (*integrators_cmd) return list_integrators();
     if (*bench_cmd) return kiln::run_bench(bench);
+    if (*order_cmd) {
+      std::stringstream names(order_integrators);
+      for (std::string name; std::getline(names, name, ',');)
+        if (!name.empty()) order.integrators.push_back(name);
+      if (order.out_dir.empty()) order.out_dir = "out/" + kiln::load_scene(order.scene, order.sets).name + "/order";
+      kiln::run_order_study(order);
+      return 0;
+    }
   } catch (const kiln::InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
     return 2;

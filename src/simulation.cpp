@@ -326,6 +326,13 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   }
   summary["kiln_version"] = KILN_VERSION;
   for (auto& o : observers) o->report(t, y.data(), summary);
+  if (options.final_fields) {
+    const int n = system.particles();
+    FinalFields& f = *options.final_fields;
+    f.position.assign(y.begin() + system.x_at(), y.begin() + system.x_at() + 2 * n);
+    f.velocity.assign(y.begin() + system.vx_at(), y.begin() + system.vx_at() + 2 * n);
+    if (system.thermal()) f.temperature.assign(y.begin() + system.temperature_at(), y.begin() + system.temperature_at() + n);
+  }
   files.finish(t, y.data(), summary);
   return summary;
 }

@@ -2,14 +2,22 @@
 #pragma once
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "src/scene.h"
 
 namespace kiln {
 
+// The final state's fields, for studies: x of every particle then y, the same for velocities,
+// and temperatures (empty when the scene is not thermal).
+struct FinalFields {
+  std::vector<double> position, velocity, temperature;
+};
+
 struct RunOptions {
   std::string out_dir;     // empty: write no files (tests and studies)
   bool quiet = false;
+  FinalFields* final_fields = nullptr;  // filled at the end when given
 };
 
 // Runs the scene to its end (or its stop condition) and returns the summary (also written to

@@ -1,0 +1,76 @@
+// `kiln order`: it recovers known orders, Richardson agrees with the analytic reference, and the
+// results do not depend on the number of threads.
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "src/error.h"
+#include "src/study_order.h"
+#include "tests/support.h"
+
+using namespace kiln;
+
+namespace {
+
+OrderOptions harmonic(const std::string& integrator, double dt, int levels) {
+  OrderOptions o;
+  o.scene = testing::case_path("harmonic_contact_pair.yaml");
+  o.integrators = {integrator};
+  o.dt = dt;
+  o.levels = levels;
+  o.quiet = true;
+  return o;
+}
+
+double fitted(const nlohmann::json& study) { return study["integrators"][0]["fitted_order"].get<double>(); }
+
+}  // namespace
+
+TEST_CASE("kiln order recovers velocity Verlet 2, Heun 2, Zonneveld 4 and Dormand-Prince 5 on the harmonic contact",
+          "[study]") {
+  // Coarsest steps in each scheme's asymptotic range (the period is 1.4 ms).
+  CHECK(fitted(run_order_study(harmonic("velocity-verlet", 1e-4, 4))) == Approx(2).margin(0.15));
+  CHECK(fitted(run_order_study(harmonic("erk2", 2.5e-5, 4))) == Approx(2).margin(0.15));
+  CHECK(fitted(run_order_study(harmonic("erk4", 5e-5, 4))) == Approx(4).margin(0.15));
+  const auto dp = run_order_study(harmonic("erk5", 1e-4, 4));
+  CHECK(fitted(dp) == Approx(5).margin(0.25));
+  CHECK(dp["integrators"][0]["verdict"] == "matches");
+}
+
+TEST_CASE("Richardson's estimate agrees with the analytic reference's order", "[study]") {
+  OrderOptions o = harmonic("velocity-verlet", 1e-4, 5);
+  const double analytic = fitted(run_order_study(o));
+  o.reference = "richardson";
+  const double richardson = fitted(run_order_study(o));
+  CHECK(richardson == Approx(analytic).margin(0.15));
+}
+
+TEST_CASE("an order study gives the same JSON with 1 and 2 threads, timings aside", "[study]") {
+  OrderOptions o = harmonic("velocity-verlet", 1e-4, 3);
+  o.integrators = {"velocity-verlet", "erk4"};
+  o.threads = 1;
+  auto one = run_order_study(o);
+  o.threads = 2;
+  auto two = run_order_study(o);
+  for (auto* s : {&one, &two})
+    for (auto& entry : (*s)["integrators"]) entry.erase("wall_seconds");
+  CHECK(one == two);
+}
+
+TEST_CASE("an unknown quantity or a case without an exact solution is refused with the choices", "[study]") {
+  OrderOptions o = harmonic("velocity-verlet", 1e-4, 3);
+  o.quantity = "positon";
+  try {
+    run_order_study(o);
+    FAIL("accepted");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).find("'position'") != std::string::npos);
+  }
+  o.quantity = "position";
+  o.scene = testing::case_path("t3_heap.yaml");
+  try {
+    run_order_study(o);
+    FAIL("accepted");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).find("--reference fine or richardson") != std::string::npos);
+  }
+}
