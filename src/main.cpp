@@ -16,6 +16,8 @@
 #include "src/simulation.h"
 #include "src/stability.h"
 #include "src/study_order.h"
+#include "src/study_sweep.h"
+#include "src/study_wp.h"
 
 namespace {
 
@@ -161,6 +163,34 @@ int main(int argc, char** argv) {
   order_cmd->add_option("--threads", order.threads, "worker threads (default: every core)")->check(CLI::PositiveNumber);
   order_cmd->add_option("--set", order.sets, "override a scene value: KEY=VALUE")->take_all();
   order_cmd->add_flag("--quiet", order.quiet, "no table");
+  kiln::SweepOptions sweep;
+  CLI::App* sweep_cmd = app.add_subcommand("sweep", "time-step sensitivity and stability boundary (sweep.json, .csv, .png)");
+  sweep_cmd->add_option("scene", sweep.scene, "scene file (YAML)")->required()->check(CLI::ExistingFile);
+  sweep_cmd->add_option("--integrator", sweep.integrator, "integrator name")->required();
+  sweep_cmd->add_option("--dt-min", sweep.dt_min, "smallest step (s)")->required()->check(CLI::PositiveNumber);
+  sweep_cmd->add_option("--dt-max", sweep.dt_max, "largest step (s)")->required()->check(CLI::PositiveNumber);
+  sweep_cmd->add_option("--points", sweep.points, "steps, log-spaced")->check(CLI::Range(2, 200));
+  sweep_cmd->add_option("--quantity", sweep.quantities, "quantities (default: the case's)")->take_all();
+  sweep_cmd->add_option("--t-end", sweep.t_end, "end time (s)")->check(CLI::PositiveNumber);
+  sweep_cmd->add_option("--out", sweep.out_dir, "output directory (default out/<scene name>/sweep)");
+  sweep_cmd->add_option("--threads", sweep.threads, "worker threads")->check(CLI::PositiveNumber);
+  sweep_cmd->add_option("--set", sweep.sets, "override a scene value: KEY=VALUE")->take_all();
+  sweep_cmd->add_flag("--quiet", sweep.quiet, "no table");
+  kiln::WorkPrecisionOptions wp;
+  std::string wp_integrators;
+  CLI::App* wp_cmd = app.add_subcommand("wp", "work-precision: error against cost (wp.json, .csv, .png)");
+  wp_cmd->add_option("scene", wp.scene, "scene file (YAML)")->required()->check(CLI::ExistingFile);
+  wp_cmd->add_option("--integrators", wp_integrators, "comma-separated names")->required();
+  wp_cmd->add_option("--dts", wp.dts, "fixed steps (s)")->delimiter(',');
+  wp_cmd->add_option("--rtols", wp.rtols, "tolerances (adaptive)")->delimiter(',');
+  wp_cmd->add_option("--quantity", wp.quantity, "position, velocity, temperature or a case quantity");
+  wp_cmd->add_option("--reference", wp.reference, "analytic | fine");
+  wp_cmd->add_option("--repeats", wp.repeats, "timed runs after a warm-up")->check(CLI::PositiveNumber);
+  wp_cmd->add_option("--t-end", wp.t_end, "end time (s)")->check(CLI::PositiveNumber);
+  wp_cmd->add_option("--out", wp.out_dir, "output directory (default out/<scene name>/wp)");
+  wp_cmd->add_option("--threads", wp.threads, "worker threads (default 1: timings)")->check(CLI::PositiveNumber);
+  wp_cmd->add_option("--set", wp.sets, "override a scene value: KEY=VALUE")->take_all();
+  wp_cmd->add_flag("--quiet", wp.quiet, "no table");
   CLI11_PARSE(app, argc, argv);
   try {
     if (*run_cmd) return run(run_args, out, quiet);
@@ -174,6 +204,19 @@ int main(int argc, char** argv) {
         if (!name.empty()) order.integrators.push_back(name);
       if (order.out_dir.empty()) order.out_dir = "out/" + kiln::load_scene(order.scene, order.sets).name + "/order";
       kiln::run_order_study(order);
+      return 0;
+    }
+    if (*sweep_cmd) {
+      if (sweep.out_dir.empty()) sweep.out_dir = "out/" + kiln::load_scene(sweep.scene, sweep.sets).name + "/sweep";
+      kiln::run_sweep_study(sweep);
+      return 0;
+    }
+    if (*wp_cmd) {
+      std::stringstream names(wp_integrators);
+      for (std::string name; std::getline(names, name, ',');)
+        if (!name.empty()) wp.integrators.push_back(name);
+      if (wp.out_dir.empty()) wp.out_dir = "out/" + kiln::load_scene(wp.scene, wp.sets).name + "/wp";
+      kiln::run_work_precision(wp);
       return 0;
     }
   } catch (const kiln::InputError& e) {

@@ -1,13 +1,11 @@
 #include "src/study_order.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <sstream>
-#include <thread>
 
 #include "integrators/integrator.h"
 #include "src/error.h"
@@ -17,76 +15,11 @@
 #include "src/overrides.h"
 #include "src/scene_yaml.h"
 #include "src/simulation.h"
+#include "src/study_runs.h"
 
 namespace kiln {
 
 namespace {
-
-// The quantities a scene can be studied on: its state fields, and the scalars its case
-// quantities (report:) put in the summary.
-std::vector<std::string> available_quantities(const Scene& scene) {
-  std::vector<std::string> q = {"position", "velocity"};
-  if (scene.thermal) q.push_back("temperature");
-  for (const std::string& r : scene.report) {
-    if (r == "heap") q.insert(q.end(), {"heap_angle_deg", "packing_fraction"});
-    if (r == "incline_motion") q.insert(q.end(), {"incline_acceleration", "slip_ratio"});
-    if (r == "temperatures") q.insert(q.end(), {"temperature_mean", "temperature_min", "temperature_max", "heat_content"});
-  }
-  return q;
-}
-
-// The studied quantity of one run: a state field, or a scalar the summary reports.
-std::vector<double> quantity_of(const std::string& q, const FinalFields& f, const nlohmann::json& summary) {
-  if (q == "position") return f.position;
-  if (q == "velocity") return f.velocity;
-  if (q == "temperature") return f.temperature;
-  return {summary.at(q).get<double>()};
-}
-
-double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b) {
-  double worst = 0;
-  for (size_t k = 0; k < a.size(); ++k) worst = std::max(worst, std::abs(a[k] - b[k]));
-  return worst;
-}
-
-struct Job {
-  Job(std::string name, double step) : integrator(std::move(name)), dt(step) {}
-  std::string integrator;
-  double dt;
-  std::vector<double> value;
-  long rhs_evals = 0;
-  double seconds = 0;
-  std::string failure;
-};
-
-// Runs every job on `threads` workers; each job writes only its own slot.
-void run_jobs(const OrderOptions& o, std::vector<Job>& jobs, double t_end) {
-  std::atomic<size_t> next{0};
-  auto work = [&] {
-    for (size_t k = next++; k < jobs.size(); k = next++) {
-      Job& job = jobs[k];
-      std::vector<std::string> sets = o.sets;
-      sets.push_back("integrator=" + job.integrator);
-      sets.push_back(assignment("dt", job.dt));
-      sets.push_back(assignment("t_end", t_end));
-      sets.push_back(assignment("output_interval", t_end));
-      try {
-        const Scene scene = load_scene(o.scene, sets);
-        FinalFields fields;
-        const nlohmann::json s = run_scene(scene, {"", true, &fields});
-        job.value = quantity_of(o.quantity, fields, s);
-        job.rhs_evals = s["rhs_evals"].get<long>();
-        job.seconds = s["wall_seconds"].get<double>();
-      } catch (const std::exception& e) {
-        job.failure = e.what();
-      }
-    }
-  };
-  const int threads = o.threads > 0 ? o.threads : std::max(1u, std::thread::hardware_concurrency());
-  std::vector<std::thread> pool;
-  for (int k = 0; k < threads; ++k) pool.emplace_back(work);
-  for (auto& th : pool) th.join();
-}
 
 int nominal_order(const std::string& name) {
   for (const auto& info : integrator_catalogue())
@@ -105,10 +38,7 @@ nlohmann::json run_order_study(const OrderOptions& o) {
   if (o.reference != "analytic" && o.reference != "richardson" && o.reference != "fine")
     throw InputError("unknown --reference '" + o.reference + "'; valid choices are " +
                      choices_nearest_first(o.reference, {"analytic", "richardson", "fine"}));
-  const auto available = available_quantities(base);
-  if (std::find(available.begin(), available.end(), o.quantity) == available.end())
-    throw InputError("unknown --quantity '" + o.quantity + "' for scene '" + base.name + "'; available: " +
-                     choices_nearest_first(o.quantity, available));
+  check_quantity(base, o.quantity);
   for (const std::string& name : o.integrators) make_integrator(name);  // unknown names fail here
 
   // The reference.
@@ -121,19 +51,16 @@ nlohmann::json run_order_study(const OrderOptions& o) {
     reference = *exact;
   } else if (o.reference == "fine") {
     // The same scene with Dormand-Prince, adaptive at a tight tolerance, from the finest step.
-    std::vector<Job> fine = {Job("erk5", o.dt / std::pow(o.ratio, o.levels))};
-    OrderOptions tight = o;
-    tight.sets.push_back("rtol=1e-11");
-    tight.sets.push_back("atol=1e-15");
-    run_jobs(tight, fine, t_end);
+    std::vector<StudyRun> fine = {StudyRun("erk5", o.dt / std::pow(o.ratio, o.levels), {"rtol=1e-11", "atol=1e-15"})};
+    run_study(o.scene, o.sets, t_end, o.quantity, fine, o.threads);
     if (!fine[0].failure.empty()) throw std::runtime_error("the fine reference run failed: " + fine[0].failure);
     reference = fine[0].value;
   }
 
-  std::vector<Job> jobs;
+  std::vector<StudyRun> jobs;
   for (const std::string& name : o.integrators)
     for (int level = 0; level < o.levels; ++level) jobs.emplace_back(name, o.dt / std::pow(o.ratio, level));
-  run_jobs(o, jobs, t_end);
+  run_study(o.scene, o.sets, t_end, o.quantity, jobs, o.threads);
 
   nlohmann::json out;
   out["scene"] = base.name;
@@ -147,7 +74,7 @@ nlohmann::json run_order_study(const OrderOptions& o) {
   csv << "integrator,dt,error,observed_order,rhs_evals,wall_seconds\n";
   for (size_t i = 0; i < o.integrators.size(); ++i) {
     const std::string& name = o.integrators[i];
-    const Job* row = &jobs[i * o.levels];
+    const StudyRun* row = &jobs[i * o.levels];
     nlohmann::json entry;
     entry["name"] = name;
     entry["nominal_order"] = nominal_order(name);
@@ -222,18 +149,7 @@ nlohmann::json run_order_study(const OrderOptions& o) {
   }
   if (!o.quiet) std::printf("%s on %s, %s at t = %g s, reference %s\n\n%s", o.quantity.c_str(), base.name.c_str(),
                             "max abs error", t_end, o.reference.c_str(), table.str().c_str());
-  if (!o.out_dir.empty()) {
-    std::filesystem::create_directories(o.out_dir);
-    const std::string dir = o.out_dir + "/";
-    write_file_atomically(dir + "order.json", out.dump(2) + "\n");
-    write_file_atomically(dir + "order.csv", csv.str());
-    // The plot is matplotlib's, run by Debian's python3 on the JSON just written.
-    const std::string script = std::string(KILN_SCRIPTS_DIR) + "/plot_order.py";
-    const std::string cmd = "/usr/bin/python3 " + script + " " + dir + "order.json " + dir + "order.png";
-    if (std::system(cmd.c_str()) != 0)
-      std::fprintf(stderr, "warning: order.png not written (needs /usr/bin/python3 with matplotlib: apt-get install "
-                           "python3-matplotlib)\n");
-  }
+  if (!o.out_dir.empty()) write_study(o.out_dir, "order", out, csv.str());
   return out;
 }
 

@@ -5,6 +5,8 @@
 
 #include "src/error.h"
 #include "src/study_order.h"
+#include "src/study_sweep.h"
+#include "src/study_wp.h"
 #include "tests/support.h"
 
 using namespace kiln;
@@ -72,5 +74,44 @@ TEST_CASE("an unknown quantity or a case without an exact solution is refused wi
     FAIL("accepted");
   } catch (const InputError& e) {
     CHECK(std::string(e.what()).find("--reference fine or richardson") != std::string::npos);
+  }
+}
+
+TEST_CASE("kiln sweep finds velocity Verlet's stability boundary within 10 % of 2/omega", "[study]") {
+  SweepOptions o;
+  o.scene = testing::case_path("harmonic_contact_pair.yaml");
+  o.integrator = "velocity-verlet";
+  o.dt_min = 1e-5;
+  o.dt_max = 1e-3;
+  o.points = 8;
+  o.t_end = 0.05;
+  o.quiet = true;
+  const auto s = run_sweep_study(o);
+  const double m = 4.0 / 3.0 * M_PI * 8e-9 * 8900, limit = 2 * std::sqrt(m / 6000);
+  REQUIRE(s["largest_stable_dt"].is_number());
+  CHECK(s["largest_stable_dt"].get<double>() == Approx(limit).epsilon(0.1));
+  CHECK(s["smallest_unstable_dt"].get<double>() == Approx(limit).epsilon(0.1));
+  CHECK(s["estimate"]["dt_limit"].get<double>() == Approx(limit).epsilon(1e-9));
+  CHECK(s["stable"].front() == true);
+  CHECK(s["stable"].back() == false);
+}
+
+TEST_CASE("kiln wp: the error falls monotonically with dt and the JSON has the documented fields", "[study]") {
+  WorkPrecisionOptions o;
+  o.scene = testing::case_path("t4_two_particle_conduction.yaml");
+  o.integrators = {"velocity-verlet", "erk4"};
+  o.dts = {4e-3, 2e-3, 1e-3};
+  o.quantity = "temperature";
+  o.repeats = 1;
+  o.quiet = true;
+  const auto s = run_work_precision(o);
+  for (const char* key : {"scene", "quantity", "norm", "reference", "t_end", "setting", "repeats", "integrators"})
+    CHECK(s.contains(key));
+  for (const auto& entry : s["integrators"]) {
+    for (const char* key : {"name", "dt", "error", "wall_seconds", "rhs_evals"}) CHECK(entry.contains(key));
+    const auto err = entry["error"].get<std::vector<double>>();
+    for (size_t k = 1; k < err.size(); ++k) CHECK(err[k] < err[k - 1]);
+    const auto evals = entry["rhs_evals"].get<std::vector<long>>();
+    CHECK(evals.back() > evals.front());
   }
 }

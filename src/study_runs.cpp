@@ -1,0 +1,107 @@
+#include "src/study_runs.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <thread>
+
+#include "src/error.h"
+#include "src/nearest.h"
+#include "src/outputs.h"
+#include "src/overrides.h"
+#include "src/scene_yaml.h"
+#include "src/simulation.h"
+
+namespace kiln {
+
+std::vector<std::string> study_quantities(const Scene& scene) {
+  std::vector<std::string> q = {"position", "velocity"};
+  if (scene.thermal) q.push_back("temperature");
+  for (const std::string& r : scene.report) {
+    if (r == "heap") q.insert(q.end(), {"heap_angle_deg", "packing_fraction"});
+    if (r == "incline_motion") q.insert(q.end(), {"incline_acceleration", "slip_ratio"});
+    if (r == "temperatures") q.insert(q.end(), {"temperature_mean", "temperature_min", "temperature_max", "heat_content"});
+  }
+  return q;
+}
+
+void check_quantity(const Scene& scene, const std::string& quantity) {
+  const auto available = study_quantities(scene);
+  if (std::find(available.begin(), available.end(), quantity) == available.end())
+    throw InputError("unknown quantity '" + quantity + "' for scene '" + scene.name + "'; available: " +
+                     choices_nearest_first(quantity, available));
+}
+
+double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  double worst = 0;
+  for (size_t k = 0; k < a.size() && k < b.size(); ++k) worst = std::max(worst, std::abs(a[k] - b[k]));
+  return worst;
+}
+
+namespace {
+
+std::vector<double> quantity_of(const std::string& q, const FinalFields& f, const nlohmann::json& summary) {
+  if (q == "position") return f.position;
+  if (q == "velocity") return f.velocity;
+  if (q == "temperature") return f.temperature;
+  return {summary.at(q).get<double>()};
+}
+
+void run_one(const std::string& path, const std::vector<std::string>& base_sets, double t_end, const std::string& q,
+             StudyRun& run) {
+  std::vector<std::string> sets = base_sets;
+  sets.push_back("integrator=" + run.integrator);
+  sets.push_back(assignment("dt", run.dt));
+  sets.push_back(assignment("t_end", t_end));
+  sets.push_back(assignment("output_interval", t_end));
+  sets.insert(sets.end(), run.sets.begin(), run.sets.end());
+  try {
+    const Scene scene = load_scene(path, sets);
+    const int runs = run.repeats > 1 ? run.repeats + 1 : 1;  // a warm-up first when timing
+    double best = INFINITY;
+    for (int k = 0; k < runs; ++k) {
+      FinalFields fields;
+      const nlohmann::json s = run_scene(scene, {"", true, &fields});
+      if (runs == 1 || k > 0) best = std::min(best, s["wall_seconds"].get<double>());
+      run.value = quantity_of(q, fields, s);
+      run.rhs_evals = s["rhs_evals"].get<long>();
+    }
+    run.seconds = best;
+  } catch (const InstabilityError& e) {
+    run.unstable = true;
+    run.failure = e.what();
+  } catch (const std::exception& e) {
+    run.failure = e.what();
+  }
+}
+
+}  // namespace
+
+void run_study(const std::string& scene, const std::vector<std::string>& sets, double t_end, const std::string& quantity,
+               std::vector<StudyRun>& runs, int threads) {
+  std::atomic<size_t> next{0};
+  auto work = [&] {
+    for (size_t k = next++; k < runs.size(); k = next++) run_one(scene, sets, t_end, quantity, runs[k]);
+  };
+  const int n = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::thread> pool;
+  for (int k = 0; k < n; ++k) pool.emplace_back(work);
+  for (auto& th : pool) th.join();
+}
+
+void write_study(const std::string& dir, const std::string& name, const nlohmann::json& study, const std::string& csv) {
+  std::filesystem::create_directories(dir);
+  const std::string base = dir + "/" + name;
+  write_file_atomically(base + ".json", study.dump(2) + "\n");
+  write_file_atomically(base + ".csv", csv);
+  const std::string cmd = "/usr/bin/python3 " + std::string(KILN_SCRIPTS_DIR) + "/plot_study.py " + name + " " +
+                          base + ".json " + base + ".png";
+  if (std::system(cmd.c_str()) != 0)
+    std::fprintf(stderr, "warning: %s.png not written (needs /usr/bin/python3 with matplotlib: apt-get install "
+                         "python3-matplotlib)\n", name.c_str());
+}
+
+}  // namespace kiln

@@ -1,0 +1,42 @@
+// What the study commands share: independent runs of one scene with different integrators and
+// steps, spread over threads (each run writes only its own slot, so results never depend on the
+// number of threads), and the quantities they can be compared on.
+#pragma once
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "src/scene.h"
+
+namespace kiln {
+
+struct StudyRun {
+  StudyRun(std::string name, double step, std::vector<std::string> extra = {})
+      : integrator(std::move(name)), dt(step), sets(std::move(extra)) {}
+  std::string integrator;
+  double dt;
+  std::vector<std::string> sets;  // further overrides (rtol, ...)
+  int repeats = 1;                // timed runs after one warm-up when > 1; the minimum is kept
+  // Results.
+  std::vector<double> value;  // the studied quantity at the end
+  long rhs_evals = 0;
+  double seconds = 0;         // wall time (the minimum over the repeats)
+  bool unstable = false;      // stopped by a stability check
+  std::string failure;        // why it failed, if it did
+};
+
+// Runs scene (with `sets`) to t_end for every run, on `threads` workers (0: every core).
+void run_study(const std::string& scene, const std::vector<std::string>& sets, double t_end, const std::string& quantity,
+               std::vector<StudyRun>& runs, int threads);
+
+// Quantities a scene can be studied on: its state fields, then the scalars its report: adds.
+std::vector<std::string> study_quantities(const Scene& scene);
+// Fails with the available quantities, nearest first, unless `quantity` is one of them.
+void check_quantity(const Scene& scene, const std::string& quantity);
+
+double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b);
+
+// Writes a study's JSON and CSV into dir, and its plot by scripts/plot_study.py (matplotlib).
+void write_study(const std::string& dir, const std::string& name, const nlohmann::json& study, const std::string& csv);
+
+}  // namespace kiln

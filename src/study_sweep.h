@@ -1,0 +1,25 @@
+// `kiln sweep`: time-step sensitivity and the stability boundary of one integrator on a scene.
+#pragma once
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace kiln {
+
+struct SweepOptions {
+  std::string scene;
+  std::vector<std::string> sets;
+  std::string integrator;
+  double dt_min = 0, dt_max = 0;
+  int points = 8;                       // dt log-spaced from dt_min to dt_max
+  std::vector<std::string> quantities;  // empty: the scene's defaults
+  double t_end = 0;
+  int bisections = 10;                  // refinements of the stability boundary
+  std::string out_dir;
+  int threads = 0;
+  bool quiet = false;
+};
+
+nlohmann::json run_sweep_study(const SweepOptions& options);
+
+}  // namespace kiln

@@ -1,0 +1,27 @@
+// `kiln wp`: work-precision, error against cost per integrator (in the manner of DiffEqDevTools'
+// WorkPrecisionSet).
+#pragma once
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace kiln {
+
+struct WorkPrecisionOptions {
+  std::string scene;
+  std::vector<std::string> sets;
+  std::vector<std::string> integrators;
+  std::vector<double> dts;    // fixed steps, or
+  std::vector<double> rtols;  // tolerances (adaptive; the first step is the scene's dt)
+  std::string quantity = "position";
+  std::string reference = "analytic";  // analytic | fine
+  double t_end = 0;
+  int repeats = 3;  // timed runs after a warm-up; the minimum wall time is kept
+  std::string out_dir;
+  int threads = 1;  // timing: one run at a time unless asked otherwise
+  bool quiet = false;
+};
+
+nlohmann::json run_work_precision(const WorkPrecisionOptions& options);
+
+}  // namespace kiln
