@@ -41,35 +41,19 @@ nlohmann::json run_order_study(const OrderOptions& o) {
   check_quantity(base, o.quantity);
   for (const std::string& name : o.integrators) make_integrator(name);  // unknown names fail here
 
-  // The reference.
-  std::vector<double> reference;
-  if (o.reference == "analytic") {
-    const auto exact = exact_quantity(base, o.quantity, t_end);
-    if (!exact)
-      throw InputError("no exact solution is registered for scene '" + base.name + "' and quantity '" + o.quantity +
-                       "'; registered: " + exact_solutions_known() + ". Use --reference fine or richardson");
-    reference = *exact;
-  } else if (o.reference == "fine") {
-    // The same scene with Dormand-Prince, adaptive at a tight tolerance, from the finest step.
-    std::vector<StudyRun> fine = {StudyRun("erk5", o.dt / std::pow(o.ratio, o.levels), {"rtol=1e-11", "atol=1e-15"})};
-    run_study(o.scene, o.sets, t_end, o.quantity, fine, o.threads);
-    if (!fine[0].failure.empty()) throw std::runtime_error("the fine reference run failed: " + fine[0].failure);
-    reference = fine[0].value;
-  }
+  // The reference: none for Richardson, which compares successive levels.
+  const std::vector<double> reference =
+      o.reference == "richardson"
+          ? std::vector<double>{}
+          : study_reference(base, o.scene, o.sets, o.quantity, t_end, o.reference, o.dt / std::pow(o.ratio, o.levels));
 
   std::vector<StudyRun> jobs;
   for (const std::string& name : o.integrators)
     for (int level = 0; level < o.levels; ++level) jobs.emplace_back(name, o.dt / std::pow(o.ratio, level));
   run_study(o.scene, o.sets, t_end, o.quantity, jobs, o.threads);
 
-  nlohmann::json out;
-  out["scene"] = base.name;
-  out["quantity"] = o.quantity;
-  out["norm"] = "max abs over components";
-  out["reference"] = o.reference;
-  out["t_end"] = t_end;
+  nlohmann::json out = study_header(base, o.quantity, o.reference, t_end);
   out["ratio"] = o.ratio;
-  out["integrators"] = nlohmann::json::array();
   std::ostringstream table, csv;
   csv << "integrator,dt,error,observed_order,rhs_evals,wall_seconds\n";
   for (size_t i = 0; i < o.integrators.size(); ++i) {

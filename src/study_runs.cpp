@@ -9,6 +9,7 @@
 #include <thread>
 
 #include "src/error.h"
+#include "src/exact_solutions.h"
 #include "src/nearest.h"
 #include "src/outputs.h"
 #include "src/overrides.h"
@@ -90,6 +91,30 @@ void run_study(const std::string& scene, const std::vector<std::string>& sets, d
   std::vector<std::thread> pool;
   for (int k = 0; k < n; ++k) pool.emplace_back(work);
   for (auto& th : pool) th.join();
+}
+
+std::vector<double> study_reference(const Scene& scene, const std::string& path, const std::vector<std::string>& sets,
+                                    const std::string& quantity, double t_end, const std::string& kind, double fine_dt) {
+  if (kind == "analytic") {
+    const auto exact = exact_quantity(scene, quantity, t_end);
+    if (!exact)
+      throw InputError("no exact solution is registered for scene '" + scene.name + "' and quantity '" + quantity +
+                       "'; registered: " + exact_solutions_known() + ". Use --reference fine (or richardson)");
+    return *exact;
+  }
+  std::vector<StudyRun> fine = {StudyRun("erk5", fine_dt, {"rtol=1e-11", "atol=1e-15"})};
+  run_study(path, sets, t_end, quantity, fine, 1);
+  if (!fine[0].failure.empty()) throw std::runtime_error("the fine reference run failed: " + fine[0].failure);
+  return fine[0].value;
+}
+
+nlohmann::json study_header(const Scene& scene, const std::string& quantity, const std::string& reference, double t_end) {
+  return {{"scene", scene.name},
+          {"quantity", quantity},
+          {"norm", "max abs over components"},
+          {"reference", reference},
+          {"t_end", t_end},
+          {"integrators", nlohmann::json::array()}};
 }
 
 void write_study(const std::string& dir, const std::string& name, const nlohmann::json& study, const std::string& csv) {

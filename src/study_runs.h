@@ -34,6 +34,15 @@ std::vector<std::string> study_quantities(const Scene& scene);
 // Fails with the available quantities, nearest first, unless `quantity` is one of them.
 void check_quantity(const Scene& scene, const std::string& quantity);
 
+// The reference values of a study: the registered exact solution ("analytic"), or the same scene
+// run with Dormand-Prince adaptive at rtol 1e-11 from `fine_dt` ("fine"). Fails with the
+// registered solutions when there is none.
+std::vector<double> study_reference(const Scene& scene, const std::string& path, const std::vector<std::string>& sets,
+                                    const std::string& quantity, double t_end, const std::string& kind, double fine_dt);
+
+// The fields every study's JSON opens with.
+nlohmann::json study_header(const Scene& scene, const std::string& quantity, const std::string& reference, double t_end);
+
 double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b);
 
 // Writes a study's JSON and CSV into dir, and its plot by scripts/plot_study.py (matplotlib).

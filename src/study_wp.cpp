@@ -21,19 +21,7 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o) {
     throw InputError("unknown --reference '" + o.reference + "'; valid choices are " +
                      choices_nearest_first(o.reference, {"analytic", "fine"}));
   const double t_end = o.t_end > 0 ? o.t_end : base.t_end;
-  std::vector<double> reference;
-  if (o.reference == "analytic") {
-    const auto exact = exact_quantity(base, o.quantity, t_end);
-    if (!exact)
-      throw InputError("no exact solution is registered for scene '" + base.name + "' and quantity '" + o.quantity +
-                       "'; registered: " + exact_solutions_known() + ". Use --reference fine");
-    reference = *exact;
-  } else {
-    std::vector<StudyRun> fine = {StudyRun("erk5", base.dt, {"rtol=1e-11", "atol=1e-15"})};
-    run_study(o.scene, o.sets, t_end, o.quantity, fine, 1);
-    if (!fine[0].failure.empty()) throw std::runtime_error("the fine reference run failed: " + fine[0].failure);
-    reference = fine[0].value;
-  }
+  const std::vector<double> reference = study_reference(base, o.scene, o.sets, o.quantity, t_end, o.reference, base.dt);
   const bool adaptive = !o.rtols.empty();
   const std::vector<double>& settings = adaptive ? o.rtols : o.dts;
   std::vector<StudyRun> runs;
@@ -45,15 +33,9 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o) {
     }
   run_study(o.scene, o.sets, t_end, o.quantity, runs, o.threads);
 
-  nlohmann::json out;
-  out["scene"] = base.name;
-  out["quantity"] = o.quantity;
-  out["norm"] = "max abs over components";
-  out["reference"] = o.reference;
-  out["t_end"] = t_end;
+  nlohmann::json out = study_header(base, o.quantity, o.reference, t_end);
   out["setting"] = adaptive ? "rtol" : "dt";
   out["repeats"] = o.repeats;
-  out["integrators"] = nlohmann::json::array();
   std::ostringstream csv, table;
   csv << "integrator," << (adaptive ? "rtol" : "dt") << ",error,wall_seconds,rhs_evals\n";
   for (size_t i = 0; i < o.integrators.size(); ++i) {
