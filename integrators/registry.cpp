@@ -94,6 +94,8 @@ std::unique_ptr<Integrator> make_integrator(const std::string& typed, const Step
     for (const auto& i : integrator_catalogue()) names.push_back(i.name);
     throw InputError("unknown integrator '" + typed + "'; valid names are " + choices_nearest_first(typed, names));
   }
+  if (control.contact_events && info->name.find(':') == std::string::npos)
+    throw InputError("contact events need an ARKODE integrator (erk:..., imex:...), not '" + typed + "'");
   if (control.rtol > 0 && info->embedding == 0)
     throw InputError("integrator '" + typed + "' has no error estimate and cannot adapt: give no rtol, or pick an "
                      "erk: or imex: method with an embedding (see 'kiln integrators')");

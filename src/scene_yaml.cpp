@@ -492,19 +492,8 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
       scene.control.atol = a->positive();
     }
   }
-  if (auto e = root.optional("contact_events")) {
-    scene.control.contact_events = e->boolean();
-    if (scene.control.contact_events && scene.integrator.find(':') == std::string::npos &&
-        scene.integrator.rfind("erk", 0) != 0 && scene.integrator.rfind("imex", 0) != 0)
-      e->fail("contact events need an ARKODE integrator (erk:..., imex:...), not '" + scene.integrator + "'");
-  }
-  if (scene.control.rtol > 0) {
-    bool adapts = false;
-    for (const auto& info : integrator_catalogue()) adapts = adapts || (info.name == scene.integrator && info.embedding > 0);
-    if (!adapts)
-      root["rtol"].fail("integrator '" + scene.integrator +
-                        "' has no error estimate and cannot adapt; drop rtol or pick an erk:/imex: method with an embedding");
-  }
+  // Whether the integrator can adapt or locate events is checked where it is made (make_integrator).
+  if (auto e = root.optional("contact_events")) scene.control.contact_events = e->boolean();
   scene.dt = root["dt"].positive();
   scene.t_end = root["t_end"].positive();
   if (scene.dt > scene.t_end) root["dt"].fail("dt is longer than t_end");
