@@ -175,7 +175,8 @@ bool ArkodeIntegrator::crossed(const std::vector<double>& g0, const std::vector<
 }
 
 bool ArkodeIntegrator::locate_event(double t_start) {
-  std::vector<double> g(events_start_.size());
+  std::vector<double>& g = events_now_;
+  g.resize(events_start_.size());
   system_->event_functions(t_, y_, g.data());
   if (!crossed(events_start_, g)) return false;
   // Bisect the step for the first crossing. Each trial retakes one step of the method from the

@@ -57,6 +57,7 @@ class ArkodeIntegrator final : public Integrator {
   std::vector<double> scratch_;  // f at the end of a step, for contact history
   long history_evals_ = 0;
   std::vector<double> events_start_;  // event functions at the step's start
+  std::vector<double> events_now_;    // ... and at a trial end (kept: no allocation per step)
   std::vector<int> flips_;       // +1 onset, -1 release, per candidate contact, of a located event
   std::vector<double> step_start_;  // the state a step started from
   long events_located_ = 0;

@@ -467,7 +467,7 @@ double DemSystem::wall_overlap(const double* px, const double* py, const std::ve
 
 void DemSystem::event_functions(double t, const double* y, double* g) const {
   const double *px = y + x_at(), *py = y + y_at();
-  std::vector<Vec2> a, b;
+  std::vector<Vec2>&a = event_a_, &b = event_b_;  // kept: event location runs every step
   wall_geometry(t, a, b);
   for (int p = 0; p < pp_.size(); ++p) g[p] = pair_overlap(px, py, p);
   for (int p = 0; p < pw_.size(); ++p) g[pp_.size() + p] = wall_overlap(px, py, a, b, p);
@@ -477,7 +477,7 @@ void DemSystem::lock_contacts(double t, const double* y, const int* flips) {
   // After a located event the root finder's directions decide (the overlap there is ~0);
   // contacts not known yet (the start, new candidates) act where their overlap is positive.
   const double *px = y + x_at(), *py = y + y_at();
-  std::vector<Vec2> a, b;
+  std::vector<Vec2>&a = event_a_, &b = event_b_;  // kept: event location runs every step
   wall_geometry(t, a, b);
   for (int p = 0; p < pp_.size(); ++p) {
     if (flips && flips[p]) pp_.active[p] = flips[p] > 0;

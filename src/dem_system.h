@@ -152,6 +152,7 @@ class DemSystem final : public OdeSystem {
   double max_overlap_fraction_ = 0;
 
   std::vector<Vec2> seg_a_, seg_b_;  // wall geometry at the latest time asked for
+  mutable std::vector<Vec2> event_a_, event_b_;  // scratch of the event functions
   double seg_time_ = -1;
 };
 

@@ -6,7 +6,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <sstream>
 
 #include "integrators/integrator.h"
 #include "src/bench.h"
@@ -149,10 +148,11 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--steps", bench.steps, "timed steps")->check(CLI::PositiveNumber);
   bench_cmd->add_flag("--flowing", bench.flowing, "tilt gravity 30 degrees toward +x");
   kiln::OrderOptions order;
-  std::string order_integrators;
   CLI::App* order_cmd = app.add_subcommand("order", "observed orders of integrators on a scene (order.json, .csv, .png)");
   order_cmd->add_option("scene", order.scene, "scene file (YAML)")->required()->check(CLI::ExistingFile);
-  order_cmd->add_option("--integrators", order_integrators, "comma-separated names (see 'kiln integrators')")->required();
+  order_cmd->add_option("--integrators", order.integrators, "comma-separated names (see 'kiln integrators')")
+      ->required()
+      ->delimiter(',');
   order_cmd->add_option("--dt", order.dt, "the coarsest step (s)")->required()->check(CLI::PositiveNumber);
   order_cmd->add_option("--levels", order.levels, "number of step sizes")->check(CLI::Range(2, 30));
   order_cmd->add_option("--ratio", order.ratio, "dt_{k+1} = dt_k / ratio (default 2)");
@@ -177,10 +177,9 @@ int main(int argc, char** argv) {
   sweep_cmd->add_option("--set", sweep.sets, "override a scene value: KEY=VALUE")->take_all();
   sweep_cmd->add_flag("--quiet", sweep.quiet, "no table");
   kiln::WorkPrecisionOptions wp;
-  std::string wp_integrators;
   CLI::App* wp_cmd = app.add_subcommand("wp", "work-precision: error against cost (wp.json, .csv, .png)");
   wp_cmd->add_option("scene", wp.scene, "scene file (YAML)")->required()->check(CLI::ExistingFile);
-  wp_cmd->add_option("--integrators", wp_integrators, "comma-separated names")->required();
+  wp_cmd->add_option("--integrators", wp.integrators, "comma-separated names")->required()->delimiter(',');
   wp_cmd->add_option("--dts", wp.dts, "fixed steps (s)")->delimiter(',');
   wp_cmd->add_option("--rtols", wp.rtols, "tolerances (adaptive)")->delimiter(',');
   wp_cmd->add_option("--quantity", wp.quantity, "position, velocity, temperature or a case quantity");
@@ -198,24 +197,23 @@ int main(int argc, char** argv) {
     if (*cases_cmd) return list_cases();
     if (*integrators_cmd) return list_integrators();
     if (*bench_cmd) return kiln::run_bench(bench);
+    // A study writes into out/<scene name>/<study> unless --out says otherwise.
+    auto out_dir = [](std::string& dir, const std::string& scene, const std::vector<std::string>& sets,
+                      const char* study) {
+      if (dir.empty()) dir = "out/" + kiln::load_scene(scene, sets).name + "/" + study;
+    };
     if (*order_cmd) {
-      std::stringstream names(order_integrators);
-      for (std::string name; std::getline(names, name, ',');)
-        if (!name.empty()) order.integrators.push_back(name);
-      if (order.out_dir.empty()) order.out_dir = "out/" + kiln::load_scene(order.scene, order.sets).name + "/order";
+      out_dir(order.out_dir, order.scene, order.sets, "order");
       kiln::run_order_study(order);
       return 0;
     }
     if (*sweep_cmd) {
-      if (sweep.out_dir.empty()) sweep.out_dir = "out/" + kiln::load_scene(sweep.scene, sweep.sets).name + "/sweep";
+      out_dir(sweep.out_dir, sweep.scene, sweep.sets, "sweep");
       kiln::run_sweep_study(sweep);
       return 0;
     }
     if (*wp_cmd) {
-      std::stringstream names(wp_integrators);
-      for (std::string name; std::getline(names, name, ',');)
-        if (!name.empty()) wp.integrators.push_back(name);
-      if (wp.out_dir.empty()) wp.out_dir = "out/" + kiln::load_scene(wp.scene, wp.sets).name + "/wp";
+      out_dir(wp.out_dir, wp.scene, wp.sets, "wp");
       kiln::run_work_precision(wp);
       return 0;
     }
