@@ -56,6 +56,19 @@ void add_scene_options(CLI::App* cmd, SceneArgs& a) {
   cmd->add_option("--set", a.sets, "override a scene value by dotted path: KEY=VALUE")->take_all();
 }
 
+// The options every study command shares: the scene, its overrides, end time, output, threads.
+template <class Options>
+CLI::App* add_study(CLI::App& app, const char* name, const char* summary, Options& o) {
+  CLI::App* cmd = app.add_subcommand(name, summary);
+  cmd->add_option("scene", o.scene, "scene file (YAML)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("--t-end", o.t_end, "end time (s); default the scene's")->check(CLI::PositiveNumber);
+  cmd->add_option("--out", o.out_dir, std::string("output directory (default out/<scene name>/") + name + ")");
+  cmd->add_option("--threads", o.threads, "worker threads")->check(CLI::PositiveNumber);
+  cmd->add_option("--set", o.sets, "override a scene value: KEY=VALUE")->take_all();
+  cmd->add_flag("--quiet", o.quiet, "no table");
+  return cmd;
+}
+
 int check(const SceneArgs& a) {
   const kiln::Scene scene = load(a);
   const kiln::StabilityEstimate est = kiln::estimate_stability(scene);
@@ -148,8 +161,7 @@ int main(int argc, char** argv) {
   bench_cmd->add_option("--steps", bench.steps, "timed steps")->check(CLI::PositiveNumber);
   bench_cmd->add_flag("--flowing", bench.flowing, "tilt gravity 30 degrees toward +x");
   kiln::OrderOptions order;
-  CLI::App* order_cmd = app.add_subcommand("order", "observed orders of integrators on a scene (order.json, .csv, .png)");
-  order_cmd->add_option("scene", order.scene, "scene file (YAML)")->required()->check(CLI::ExistingFile);
+  CLI::App* order_cmd = add_study(app, "order", "observed orders of integrators on a scene (order.json, .csv, .png)", order);
   order_cmd->add_option("--integrators", order.integrators, "comma-separated names (see 'kiln integrators')")
       ->required()
       ->delimiter(',');
@@ -158,38 +170,22 @@ int main(int argc, char** argv) {
   order_cmd->add_option("--ratio", order.ratio, "dt_{k+1} = dt_k / ratio (default 2)");
   order_cmd->add_option("--quantity", order.quantity, "position, velocity, temperature or a case quantity");
   order_cmd->add_option("--reference", order.reference, "analytic | richardson | fine");
-  order_cmd->add_option("--t-end", order.t_end, "end time (s); default the scene's")->check(CLI::PositiveNumber);
-  order_cmd->add_option("--out", order.out_dir, "output directory (default out/<scene name>/order)");
-  order_cmd->add_option("--threads", order.threads, "worker threads (default: every core)")->check(CLI::PositiveNumber);
-  order_cmd->add_option("--set", order.sets, "override a scene value: KEY=VALUE")->take_all();
-  order_cmd->add_flag("--quiet", order.quiet, "no table");
   kiln::SweepOptions sweep;
-  CLI::App* sweep_cmd = app.add_subcommand("sweep", "time-step sensitivity and stability boundary (sweep.json, .csv, .png)");
-  sweep_cmd->add_option("scene", sweep.scene, "scene file (YAML)")->required()->check(CLI::ExistingFile);
+  CLI::App* sweep_cmd =
+      add_study(app, "sweep", "time-step sensitivity and stability boundary (sweep.json, .csv, .png)", sweep);
   sweep_cmd->add_option("--integrator", sweep.integrator, "integrator name")->required();
   sweep_cmd->add_option("--dt-min", sweep.dt_min, "smallest step (s)")->required()->check(CLI::PositiveNumber);
   sweep_cmd->add_option("--dt-max", sweep.dt_max, "largest step (s)")->required()->check(CLI::PositiveNumber);
   sweep_cmd->add_option("--points", sweep.points, "steps, log-spaced")->check(CLI::Range(2, 200));
   sweep_cmd->add_option("--quantity", sweep.quantities, "quantities (default: the case's)")->take_all();
-  sweep_cmd->add_option("--t-end", sweep.t_end, "end time (s)")->check(CLI::PositiveNumber);
-  sweep_cmd->add_option("--out", sweep.out_dir, "output directory (default out/<scene name>/sweep)");
-  sweep_cmd->add_option("--threads", sweep.threads, "worker threads")->check(CLI::PositiveNumber);
-  sweep_cmd->add_option("--set", sweep.sets, "override a scene value: KEY=VALUE")->take_all();
-  sweep_cmd->add_flag("--quiet", sweep.quiet, "no table");
   kiln::WorkPrecisionOptions wp;
-  CLI::App* wp_cmd = app.add_subcommand("wp", "work-precision: error against cost (wp.json, .csv, .png)");
-  wp_cmd->add_option("scene", wp.scene, "scene file (YAML)")->required()->check(CLI::ExistingFile);
+  CLI::App* wp_cmd = add_study(app, "wp", "work-precision: error against cost (wp.json, .csv, .png)", wp);
   wp_cmd->add_option("--integrators", wp.integrators, "comma-separated names")->required()->delimiter(',');
   wp_cmd->add_option("--dts", wp.dts, "fixed steps (s)")->delimiter(',');
   wp_cmd->add_option("--rtols", wp.rtols, "tolerances (adaptive)")->delimiter(',');
   wp_cmd->add_option("--quantity", wp.quantity, "position, velocity, temperature or a case quantity");
   wp_cmd->add_option("--reference", wp.reference, "analytic | fine");
   wp_cmd->add_option("--repeats", wp.repeats, "timed runs after a warm-up")->check(CLI::PositiveNumber);
-  wp_cmd->add_option("--t-end", wp.t_end, "end time (s)")->check(CLI::PositiveNumber);
-  wp_cmd->add_option("--out", wp.out_dir, "output directory (default out/<scene name>/wp)");
-  wp_cmd->add_option("--threads", wp.threads, "worker threads (default 1: timings)")->check(CLI::PositiveNumber);
-  wp_cmd->add_option("--set", wp.sets, "override a scene value: KEY=VALUE")->take_all();
-  wp_cmd->add_flag("--quiet", wp.quiet, "no table");
   CLI11_PARSE(app, argc, argv);
   try {
     if (*run_cmd) return run(run_args, out, quiet);
