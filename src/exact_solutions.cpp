@@ -1,10 +1,10 @@
 #include "src/exact_solutions.h"
 
+#include <Eigen/Dense>
 #include <cmath>
 
 #include "contact/normal_force.h"
 #include "src/dem_system.h"
-#include "thermal/conductance.h"
 
 namespace kiln {
 
@@ -64,6 +64,55 @@ std::pair<double, double> disc_on_floor(const Scene& s, double t_end) {
   }
 }
 
+// A thermal scene with frozen mechanics is a linear network with constant conductances:
+//   C dT/dt = -K T + b,  K the Laplacian of the contact conductances plus the wall conductances on
+// its diagonal, b_i = sum_w H_iw T_w (isothermal walls at constant temperatures only).
+// With u = C^(1/2) T, u' = -A u + C^(-1/2) b and A = C^(-1/2) K C^(-1/2) = V diag(l) V^T symmetric,
+// each mode w_k = (V^T u)_k decays as w_k(t) = w_k(0) e^(-l_k t) + beta_k (1 - e^(-l_k t)) / l_k
+// (beta_k t for l_k = 0): exact up to the eigen-solver's round-off. This covers T4, F1, F2, N1.
+std::optional<std::vector<double>> frozen_network_temperatures(const Scene& s, double t) {
+  std::vector<double> wall_temperature(s.walls.size(), 0.0);
+  for (size_t w = 0; w < s.walls.size(); ++w) {
+    const thermal::WallTemperature& wt = s.walls[w].temperature;
+    if (!wt.isothermal()) continue;
+    for (double v : wt.values)
+      if (v != wt.values.front()) return std::nullopt;  // a schedule: no closed form here
+    wall_temperature[w] = wt.values.front();
+  }
+  DemSystem system(s);
+  std::vector<double> y = system.initial_state();
+  system.prepare(0, y.data(), 0);
+  const int n = system.particles();
+  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
+  Eigen::VectorXd b = Eigen::VectorXd::Zero(n), inv_sqrt_c(n), u(n);
+  for (const ConductanceLink& l : system.conduction_links(0, y.data())) {
+    K(l.i, l.i) += l.h;
+    if (l.j >= 0) {
+      K(l.j, l.j) += l.h;
+      K(l.i, l.j) -= l.h;
+      K(l.j, l.i) -= l.h;
+    } else {
+      b(l.i) += l.h * wall_temperature[-1 - l.j];
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    inv_sqrt_c(i) = 1 / std::sqrt(system.heat_capacity(i));
+    u(i) = s.temperature[i] / inv_sqrt_c(i);
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(inv_sqrt_c.asDiagonal() * K * inv_sqrt_c.asDiagonal());
+  const Eigen::VectorXd w0 = eig.eigenvectors().transpose() * u;
+  const Eigen::VectorXd beta = eig.eigenvectors().transpose() * inv_sqrt_c.cwiseProduct(b);
+  const double scale = std::max(eig.eigenvalues().cwiseAbs().maxCoeff(), 1e-300);
+  Eigen::VectorXd w(n);
+  for (int k = 0; k < n; ++k) {
+    const double l = eig.eigenvalues()(k);
+    w(k) = std::abs(l) < 1e-12 * scale ? w0(k) + beta(k) * t
+                                       : w0(k) * std::exp(-l * t) - beta(k) * std::expm1(-l * t) / l;
+  }
+  const Eigen::VectorXd T = inv_sqrt_c.cwiseProduct(eig.eigenvectors() * w);
+  return std::vector<double>(T.data(), T.data() + n);
+}
+
 }  // namespace
 
 std::optional<std::vector<double>> exact_quantity(const Scene& s, const std::string& q, double t) {
@@ -72,20 +121,8 @@ std::optional<std::vector<double>> exact_quantity(const Scene& s, const std::str
     const auto [y, v] = disc_on_floor(s, t);
     return q == "position" ? std::vector<double>{s.position[0].x, y} : std::vector<double>{s.velocity[0].x, v};
   }
-  if ((s.name == "t4_two_particle_conduction" || s.name == "f2_pipe_network_pair") && q == "temperature") {
-    // Two bodies through one constant conductance: the difference decays as
-    // exp(-H (1/C_A + 1/C_B) t), the capacity-weighted mean stays.
-    const Material &ma = s.materials[s.material[0]], &mb = s.materials[s.material[1]];
-    const double ca = disc_mass(s, s.radius[0], ma.density) * ma.specific_heat;
-    const double cb = disc_mass(s, s.radius[1], mb.density) * mb.specific_heat;
-    const PairLaw& law = s.law(s.material[0], s.material[1]);
-    const thermal::ConductionLaw cl{law.conduction, ma.conductivity, mb.conductivity, law.conductance, law.modulus_ratio,
-                                    law.effective_modulus, s.thickness, law.contact_resistance};
-    const double d = norm(s.position[1] - s.position[0]);
-    const double h = thermal::conductance(cl, s.radius[0], s.radius[1], d, 0);
-    const double mean = (ca * s.temperature[0] + cb * s.temperature[1]) / (ca + cb);
-    const double diff = (s.temperature[0] - s.temperature[1]) * std::exp(-h * (1 / ca + 1 / cb) * t);
-    return std::vector<double>{mean + diff * cb / (ca + cb), mean - diff * ca / (ca + cb)};
+  if (s.thermal && s.frozen && q == "temperature") {
+    if (auto T = frozen_network_temperatures(s, t)) return T;
   }
   if (s.name == "c1_incline_roll_slide" && q == "incline_acceleration") {
     // Rolling without slip when tan(theta) <= mu (1 + m r^2 / I), else sliding.
@@ -100,7 +137,8 @@ std::optional<std::vector<double>> exact_quantity(const Scene& s, const std::str
 
 std::string exact_solutions_known() {
   return "position and velocity of t1_free_fall, t1_free_fall_damped, harmonic_contact_pair; temperature of "
-         "t4_two_particle_conduction, f2_pipe_network_pair; incline_acceleration of c1_incline_roll_slide";
+         "every thermal scene with frozen mechanics and constant wall temperatures (t4, f1, f2, n1); "
+         "incline_acceleration of c1_incline_roll_slide";
 }
 
 }  // namespace kiln

@@ -8,6 +8,7 @@
 #include <filesystem>
 
 #include "src/error.h"
+#include "src/exact_solutions.h"
 #include "src/overrides.h"
 #include "src/scene_yaml.h"
 #include "src/simulation.h"
@@ -87,6 +88,10 @@ TEST_CASE("F1: a 20-disc chain matches the matrix exponential of its conduction 
                               (eig.eigenvalues().array() * -t).exp().matrix().asDiagonal() *
                               (eig.eigenvectors().transpose() * u0);
     for (int i = 0; i < n; ++i) CHECK(T[i] == Approx(TD + u(i)).margin(0.02));  // Heun at dt = 1 ms
+    // The study registry's exact solution (built from the scene's own network) is the same.
+    const auto exact = exact_quantity(load_scene(testing::case_path("f1_chain_slab.yaml")), "temperature", t);
+    REQUIRE(exact);
+    for (int i = 0; i < n; ++i) CHECK((*exact)[i] == Approx(TD + u(i)).margin(1e-9));
   }
 }
 
