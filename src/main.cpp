@@ -92,6 +92,7 @@ int check(const SceneArgs& a) {
     if (!scene.frozen) std::printf(", %.4g s (dense packing at 1 %% overlap)", est.thermal_dt_limit);
     std::printf("\n  thermal relaxation time    %.4g s (fastest mode, 1 / lambda_max)\n", est.thermal_relaxation_time);
   }
+  std::fflush(stdout);  // the verdict goes to stderr, after the table
   const kiln::DtVerdict verdict = kiln::judge_dt(est, scene.dt, scene);
   for (const std::string& w : verdict.warnings)
     std::fprintf(stderr, "%s: %s\n", verdict.unstable ? "error" : "warning", w.c_str());

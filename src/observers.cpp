@@ -121,7 +121,7 @@ class HeapObserver final : public Observer {
   const DemSystem& sys_;
 };
 
-// Temperatures at the end (thermal cases): mean, extremes, heat content sum C_i T_i, the means of
+// Temperatures at the end (thermal cases): mean, spread (standard deviation), extremes, heat content sum C_i T_i, the means of
 // the particles left and right of x = 0 (Lethe L1), and the least-squares line T = A x + B with its
 // rms residual (Lethe L2, the slab and chain cases).
 class TemperatureObserver final : public Observer {
@@ -131,10 +131,11 @@ class TemperatureObserver final : public Observer {
     const int n = sys_.particles();
     const double* temp = y + sys_.temperature_at();
     const double* px = y + sys_.x_at();
-    double mean = 0, heat = 0, left = 0, right = 0, nl = 0, nr = 0;
+    double mean = 0, square = 0, heat = 0, left = 0, right = 0, nl = 0, nr = 0;
     LineFit fit;
     for (int i = 0; i < n; ++i) {
       mean += temp[i] / n;
+      square += temp[i] * temp[i] / n;
       heat += sys_.heat_capacity(i) * temp[i];
       (px[i] < 0 ? left : right) += temp[i];
       (px[i] < 0 ? nl : nr) += 1;
@@ -145,12 +146,49 @@ class TemperatureObserver final : public Observer {
     for (int i = 0; i < n; ++i) residual += std::pow(temp[i] - (slope * px[i] + intercept), 2) / n;
     out["temperatures"] = std::vector<double>(temp, temp + n);
     out["temperature_mean"] = mean;
+    out["temperature_std"] = std::sqrt(std::max(0.0, square - mean * mean));
     out["temperature_min"] = *std::min_element(temp, temp + n);
     out["temperature_max"] = *std::max_element(temp, temp + n);
     out["heat_content"] = heat;
     out["temperature_mean_left"] = nl > 0 ? nlohmann::json(left / nl) : nlohmann::json(nullptr);
     out["temperature_mean_right"] = nr > 0 ? nlohmann::json(right / nr) : nlohmann::json(nullptr);
     out["temperature_fit"] = {{"slope", slope}, {"intercept", intercept}, {"rms_residual", std::sqrt(residual)}};
+  }
+
+ private:
+  const DemSystem& sys_;
+};
+
+// Mean temperature in horizontal layers one mean diameter thick, from the bed's bottom (the lowest
+// disc's underside) to its top (the highest disc's top), against the relative height
+// eta = (layer centre - bottom) / (top - bottom): Nguyen's Figure 7 (N2).
+class TemperatureProfileObserver final : public Observer {
+ public:
+  explicit TemperatureProfileObserver(const DemSystem& sys) : sys_(sys) {}
+  void report(double, const double* y, nlohmann::json& out) override {
+    const int n = sys_.particles();
+    const double *temp = y + sys_.temperature_at(), *py = y + sys_.y_at();
+    double bottom = INFINITY, top = -INFINITY, mean_radius = 0;
+    for (int i = 0; i < n; ++i) {
+      bottom = std::min(bottom, py[i] - sys_.radius(i));
+      top = std::max(top, py[i] + sys_.radius(i));
+      mean_radius += sys_.radius(i) / n;
+    }
+    const int layers = std::max(1, static_cast<int>(std::lround((top - bottom) / (2 * mean_radius))));
+    const double thickness = (top - bottom) / layers;
+    std::vector<double> sum(layers, 0.0), count(layers, 0.0);
+    for (int i = 0; i < n; ++i) {
+      const int k = std::clamp(static_cast<int>((py[i] - bottom) / thickness), 0, layers - 1);
+      sum[k] += temp[i];
+      count[k] += 1;
+    }
+    nlohmann::json eta = nlohmann::json::array(), mean = nlohmann::json::array();
+    for (int k = 0; k < layers; ++k) {
+      if (count[k] == 0) continue;
+      eta.push_back((k + 0.5) / layers);
+      mean.push_back(sum[k] / count[k]);
+    }
+    out["temperature_profile"] = {{"eta", eta}, {"temperature", mean}, {"bed_height", top - bottom}};
   }
 
  private:
@@ -230,7 +268,8 @@ HeapShape measure_heap(const std::vector<double>& x, const std::vector<double>& 
 }
 
 const std::vector<std::string>& observer_names() {
-  static const std::vector<std::string> names = {"bounce_heights", "heap", "incline_motion", "temperatures"};
+  static const std::vector<std::string> names = {"bounce_heights", "heap", "incline_motion", "temperatures",
+                                                     "temperature_profile"};
   return names;
 }
 
@@ -238,6 +277,7 @@ std::unique_ptr<Observer> make_observer(const std::string& name, const DemSystem
   if (name == "bounce_heights") return std::make_unique<BounceObserver>(system);
   if (name == "heap") return std::make_unique<HeapObserver>(system);
   if (name == "temperatures") return std::make_unique<TemperatureObserver>(system);
+  if (name == "temperature_profile") return std::make_unique<TemperatureProfileObserver>(system);
   return std::make_unique<InclineObserver>(system);
 }
 

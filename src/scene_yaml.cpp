@@ -514,7 +514,8 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
       const auto& known = observer_names();
       if (std::find(known.begin(), known.end(), name) == known.end())
         q.fail("unknown quantity '" + name + "'; available: " + choices_nearest_first(name, known));
-      if (name == "temperatures" && !scene.thermal) q.fail("'temperatures' needs a thermal scene");
+      if ((name == "temperatures" || name == "temperature_profile") && !scene.thermal)
+        q.fail("'" + name + "' needs a thermal scene");
       scene.report.push_back(name);
     }
   }
