@@ -7,6 +7,8 @@
 
 #include <arkode/arkode_butcher.h>
 
+#include "src/error.h"
+
 namespace kiln {
 
 namespace {
@@ -127,8 +129,10 @@ void ArkodeIntegrator::step() {
     evolve_one_step();
     ++neighbour_redos_;
     if (!system_->neighbours_cover(t_, y_))
-      throw std::runtime_error("ARKODE: a step of " + std::to_string(t_ - t_start) +
-                               " s moves particles farther than the neighbour skin; lower dt (or rtol)");
+      throw InstabilityError("instability at t = " + std::to_string(t_start) + " s: a step of " +
+                             std::to_string(t_ - t_start) +
+                             " s moves particles farther than the neighbour skin even from rebuilt lists (velocities "
+                             "are running away); lower dt (or rtol)");
   }
   if (control_.contact_events && locate_event(t_start)) {
     // A contact started or ended inside the step: the state is now the step retaken from its

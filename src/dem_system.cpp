@@ -237,6 +237,17 @@ double DemSystem::release(ContactList& list, int p, double dt_hist) const {
 
 void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, const double* temps) {
   const int nq = layout_.nq;
+  if (part == Part::implicit_only || part == Part::jacobian) {
+    // IMEX: conduction alone is implicit (linear in the temperatures `temps`); the walls' heat
+    // sources enter the implicit part, not its Jacobian.
+    std::fill_n(ydot, layout_.size(), 0.0);
+    if (moving_walls_) update_walls(t);
+    double* heat = ydot + temperature_at();
+    const double heat_walls = conduct(t, y, temps ? temps : y + temperature_at(), heat, part == Part::implicit_only);
+    for (int i = 0; i < n_; ++i) heat[i] *= inv_capacity_[i];
+    if (part == Part::implicit_only) ydot[ledger_at() + ledger_heat_walls] = heat_walls;
+    return;
+  }
   std::copy_n(y + nq, nq, ydot);  // dq/dt = v
   Fields s{y + x_at(), y + y_at(), y + vx_at(), y + vy_at(), rotates_ ? y + omega_at() : nullptr,
            ydot + vx_at(), ydot + vy_at(), rotates_ ? ydot + omega_at() : nullptr};
@@ -245,15 +256,11 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
   const double dt_hist = t - t_committed_;
   const double inv_dt_hist = dt_hist > 0 ? 1 / dt_hist : 0.0;
   double damping = 0, friction = 0, walls_work = 0, worst = 0;
-  // Heat: temperatures and their rates (thermal scenes only), split for IMEX into conduction
-  // (implicit) and heat from dissipation (explicit).
-  const double* temp = thermal_ ? (temps ? temps : y + temperature_at()) : nullptr;
+  // Heat (thermal scenes only): dissipation turned to heat here; conduction, the implicit part
+  // under IMEX, after the contact loops.
   double* heat = thermal_ ? ydot + temperature_at() : nullptr;
-  const bool conduct = part != Part::explicit_only;
-  const double generate = part == Part::all || part == Part::explicit_only;
-  const bool wall_sources = part != Part::jacobian;
   if (thermal_) std::fill_n(heat, n_, 0.0);
-  double heat_walls = 0, heat_generated = 0;
+  double heat_generated = 0;
 
   // Particle-particle contacts.
   for (int p = 0, np = pp_.size(); p < np; ++p) {
@@ -304,14 +311,12 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
       }
     }
     if (heat) {
-      // Conduction H (T_j - T_i) ([thesis] eq. II.6-II.8), and the dissipation that becomes heat,
-      // shared by beta (Nguyen et al. 2009: m c_p dT/dt = sum_j (H (T_j - T_i) + E_f / (2 dt))).
-      const double q =
-          conduct ? thermal::conductance(lf.conduction, radius_[i], radius_[j], d, f.normal) * (temp[j] - temp[i]) : 0.0;
-      const double generated = generate * (heat_power_factor_friction_ * (f.friction_power + rolling_power) +
-                                           heat_power_factor_damping_ * f.damping_power);
-      heat[i] += q + lf.heat_share * generated;
-      heat[j] += -q + (1 - lf.heat_share) * generated;
+      // The dissipation that becomes heat, shared by beta (Nguyen et al. 2009:
+      // m c_p dT/dt = sum_j (H (T_j - T_i) + E_f / (2 dt))); conduction is added by conduct().
+      const double generated = heat_power_factor_friction_ * (f.friction_power + rolling_power) +
+                               heat_power_factor_damping_ * f.damping_power;
+      heat[i] += lf.heat_share * generated;
+      heat[j] += (1 - lf.heat_share) * generated;
       heat_generated += generated;
     }
     worst = std::max(worst, overlap * std::max(inv_radius_[i], inv_radius_[j]));
@@ -364,23 +369,16 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
         walls_work += mr * wall_spin;
       }
     }
-    if (heat) {
-      // An isothermal wall exchanges H (T_wall - T_i); the wall keeps its share of frictional heat.
-      const thermal::WallTemperature& wt = scene_.walls[wall].temperature;
-      if (wt.isothermal() && conduct) {
-        const double outside = wall_sources ? wt.at(t) : 0.0;
-        const double q = thermal::conductance(lf.conduction, r, INFINITY, r - overlap, f.normal) * (outside - temp[i]);
-        heat[i] += q;
-        heat_walls += q;
-      }
-      const double generated = generate * lf.heat_share *
-                               (heat_power_factor_friction_ * (f.friction_power + rolling_power) +
-                                heat_power_factor_damping_ * f.damping_power);
+    if (heat) {  // the wall keeps its share of frictional heat
+      const double generated = lf.heat_share * (heat_power_factor_friction_ * (f.friction_power + rolling_power) +
+                                                heat_power_factor_damping_ * f.damping_power);
       heat[i] += generated;
       heat_generated += generated;
     }
     worst = std::max(worst, overlap * inv_radius_[i]);
   }
+
+  const double heat_walls = heat && part == Part::all ? conduct(t, y, y + temperature_at(), heat, true) : 0.0;
 
   const double gx = scene_.gravity.x, gy = scene_.gravity.y;
   for (int i = 0; i < n_; ++i) {
@@ -395,17 +393,63 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
   ledger[ledger_walls] = walls_work;
   if (heat) {
     for (int i = 0; i < n_; ++i) heat[i] *= inv_capacity_[i];
-    ledger[ledger_heat_walls] = wall_sources ? heat_walls : 0.0;
+    ledger[ledger_heat_walls] = heat_walls;
     ledger[ledger_heat_generated] = heat_generated;
   }
-  if (part == Part::implicit_only || part == Part::jacobian) {
-    // Only conduction is implicit: everything before the temperatures is explicit, except the
-    // heat that walls exchange by conduction.
-    std::fill_n(ydot, temperature_at(), 0.0);
-    if (part == Part::implicit_only) ledger[ledger_heat_walls] = heat_walls;
-  } else {
-    max_overlap_fraction_ = worst;
+  max_overlap_fraction_ = worst;
+}
+
+// Conductance of candidate pair p, 0 unless its discs touch (and, with contact events, it acts).
+// Hertz conductance takes the elastic normal force: the contact radius is set by the elastic
+// deformation, the dashpot does not widen it.
+double DemSystem::pair_conductance(const double* px, const double* py, int p) const {
+  if (events_ && !pp_.active[p]) return 0;
+  const int i = pp_.i[p], j = pp_.j[p];
+  const double dx = px[j] - px[i], dy = py[j] - py[i], rsum = radius_[i] + radius_[j];
+  const double d2 = dx * dx + dy * dy;
+  if (d2 >= rsum * rsum) return 0;
+  const double d = std::sqrt(d2), overlap = rsum - d;
+  const LawFlags& lf = flags_[pp_.law[p]];
+  const double fn = contact::normal_force({pp_.k[p], pp_.c[p], lf.hertz, lf.tension}, overlap, 0.0);
+  return thermal::conductance(lf.conduction, radius_[i], radius_[j], d, fn);
+}
+
+// Conductance between particle pw.i[p] and its wall segment (walls at their geometry a, b), 0
+// unless they touch; `wall` is set to the wall's index.
+double DemSystem::wall_conductance(const double* px, const double* py, const std::vector<Vec2>& a,
+                                   const std::vector<Vec2>& b, int p, int& wall) const {
+  const int i = pw_.i[p];
+  wall = scene_.segments[pw_.j[p]].wall;
+  WallHit hit;
+  if ((events_ && !pw_.active[p]) || !scene_.walls[wall].temperature.isothermal() ||
+      !disc_segment_contact(scene_.segments, a, b, pw_.j[p], {px[i], py[i]}, radius_[i], hit, events_))
+    return 0;
+  const LawFlags& lf = flags_[pw_.law[p]];
+  const double fn = contact::normal_force({pw_.k[p], pw_.c[p], lf.hertz, lf.tension}, hit.overlap, 0.0);
+  return thermal::conductance(lf.conduction, radius_[i], INFINITY, radius_[i] - hit.overlap, fn);
+}
+
+// Conduction ([thesis] eq. II.6-II.8): heat[i] += sum_j H_ij (T_j - T_i) + sum_w H_iw (T_w - T_i)
+// over isothermal walls, whose temperatures are taken as 0 without `wall_sources` (the Jacobian).
+// Returns the heat the walls give (W). Wall geometry must be current (update_walls).
+double DemSystem::conduct(double t, const double* y, const double* temp, double* heat, bool wall_sources) const {
+  const double *px = y + x_at(), *py = y + y_at();
+  for (int p = 0, np = pp_.size(); p < np; ++p) {
+    const int i = pp_.i[p], j = pp_.j[p];
+    const double q = pair_conductance(px, py, p) * (temp[j] - temp[i]);
+    heat[i] += q;
+    heat[j] -= q;
   }
+  double heat_walls = 0;
+  for (int p = 0, np = pw_.size(); p < np; ++p) {
+    int wall = 0;
+    const double h = wall_conductance(px, py, seg_a_, seg_b_, p, wall);
+    if (h == 0) continue;
+    const double q = h * ((wall_sources ? scene_.walls[wall].temperature.at(t) : 0.0) - temp[pw_.i[p]]);
+    heat[pw_.i[p]] += q;
+    heat_walls += q;
+  }
+  return heat_walls;
 }
 
 EnergyLedger DemSystem::energy(double t, const double* y) const {
@@ -506,26 +550,13 @@ std::vector<double> DemSystem::absolute_tolerances(const StepControl& c) const {
 std::vector<ConductanceLink> DemSystem::conduction_links(double t, const double* y) const {
   std::vector<ConductanceLink> links;
   const double *px = y + x_at(), *py = y + y_at();
-  for (int p = 0; p < pp_.size(); ++p) {
-    const int i = pp_.i[p], j = pp_.j[p];
-    const double d = std::hypot(px[j] - px[i], py[j] - py[i]);
-    const double overlap = radius_[i] + radius_[j] - d;
-    if (overlap <= 0) continue;
-    const LawFlags& lf = flags_[pp_.law[p]];
-    const double fn = contact::normal_force({pp_.k[p], pp_.c[p], lf.hertz, lf.tension}, overlap, 0.0);
-    links.push_back({i, j, thermal::conductance(lf.conduction, radius_[i], radius_[j], d, fn)});
-  }
+  for (int p = 0; p < pp_.size(); ++p)
+    if (const double h = pair_conductance(px, py, p); h > 0) links.push_back({pp_.i[p], pp_.j[p], h});
   std::vector<Vec2> a, b;
   wall_geometry(t, a, b);
   for (int p = 0; p < pw_.size(); ++p) {
-    const int i = pw_.i[p], wall = scene_.segments[pw_.j[p]].wall;
-    WallHit hit;
-    if (!scene_.walls[wall].temperature.isothermal() ||
-        !disc_segment_contact(scene_.segments, a, b, pw_.j[p], {px[i], py[i]}, radius_[i], hit))
-      continue;
-    const LawFlags& lf = flags_[pw_.law[p]];
-    const double fn = contact::normal_force({pw_.k[p], pw_.c[p], lf.hertz, lf.tension}, hit.overlap, 0.0);
-    links.push_back({i, -1 - wall, thermal::conductance(lf.conduction, radius_[i], INFINITY, radius_[i] - hit.overlap, fn)});
+    int wall = 0;
+    if (const double h = wall_conductance(px, py, a, b, p, wall); h > 0) links.push_back({pw_.i[p], -1 - wall, h});
   }
   return links;
 }

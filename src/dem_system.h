@@ -126,6 +126,10 @@ class DemSystem final : public OdeSystem {
   void set_coefficients(ContactList& list, bool walls);
   void update_walls(double t);
   double release(ContactList& list, int p, double dt_hist) const;
+  double pair_conductance(const double* px, const double* py, int p) const;
+  double wall_conductance(const double* px, const double* py, const std::vector<Vec2>& a, const std::vector<Vec2>& b,
+                          int p, int& wall) const;
+  double conduct(double t, const double* y, const double* temp, double* heat, bool wall_sources) const;
 
   const Scene& scene_;
   int n_ = 0;

@@ -89,6 +89,8 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   }
   out["values"] = values;
   out["stable"] = nlohmann::json::array();
+  out["failure"] = nlohmann::json::array();  // why a run stopped (an instability check, or an error)
+  for (const StudyRun& r : first) out["failure"].push_back(r.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.failure));
   for (size_t k = 0; k < dts.size(); ++k) {
     const bool ok = first[k].failure.empty();
     out["stable"].push_back(ok);
