@@ -23,6 +23,7 @@ std::vector<std::string> study_quantities(const Scene& scene) {
   if (scene.thermal) q.push_back("temperature");
   for (const std::string& r : scene.report) {
     if (r == "heap") q.insert(q.end(), {"heap_angle_deg", "packing_fraction"});
+    if (r == "mixing") q.insert(q.end(), {"mixing_index", "bed_tilt_deg"});
     if (r == "incline_motion") q.insert(q.end(), {"incline_acceleration", "slip_ratio"});
     if (r == "temperatures") q.insert(q.end(), {"temperature_mean", "temperature_std", "temperature_min", "temperature_max", "heat_content"});
   }
