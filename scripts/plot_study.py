@@ -51,11 +51,16 @@ def plot_sweep(study, ax):
 
 def plot_wp(study, ax):
     for entry in study["integrators"]:
-        pts = [(e, s) for e, s in zip(entry["error"], entry["wall_seconds"]) if e and s]
+        noise = entry.get("noise", [0] * len(entry["error"]))
+        pts = [(e, s, n) for e, s, n in zip(entry["error"], entry["wall_seconds"], noise) if e and s]
         if pts:
-            xs, ys = zip(*sorted(pts))
-            ax.loglog(xs, ys, "o-", label=entry["name"])
-    ax.set_xlabel(f"error of {study['quantity']} (max abs, reference {study['reference']})")
+            xs, ys, ns = zip(*sorted(pts))
+            line, = ax.loglog(xs, ys, "o-", label=entry["name"])
+            if "noise" in entry:  # ensemble: the noise floor of each error as a horizontal bar
+                ax.errorbar(xs, ys, xerr=[[min(n, 0.999 * x) for x, n in zip(xs, ns)], ns], fmt="none",
+                            color=line.get_color(), alpha=0.5)
+    ax.set_xlabel(f"error of {study['quantity']} (max abs, reference {study['reference']})"
+                  + (f"; bars: noise of {study['seeds']} fills" if "seeds" in study else ""))
     ax.set_ylabel(f"wall time (s, minimum of {study['repeats']} runs)")
     ax.set_title(f"{study['scene']}: work-precision ({study['setting']} varied)", fontsize=10)
 

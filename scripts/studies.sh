@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates docs/studies.md and its plots from the study commands. Every number in it is what
-# the commands printed. Usage: scripts/studies.sh [path/to/kiln]   (about 5 minutes on 2 cores)
+# the commands printed. Usage: scripts/studies.sh [path/to/kiln]   (about 15 minutes on 2 cores)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 kiln=${1:-./build/kiln}
@@ -74,11 +74,38 @@ run "T4" wp-t4 \
   "$kiln" wp cases/t4_two_particle_conduction.yaml --integrators velocity-verlet,erk4,imex4 --dts 0.004,0.002,0.001,0.0005 --quantity temperature
 run "F1 (fine reference)" wp-f1 \
   "$kiln" wp cases/f1_chain_slab.yaml --integrators velocity-verlet,erk4,imex4 --dts 0.004,0.002,0.001 --quantity temperature --reference fine --t-end 1
+run "T3 (100 discs): heap angle, ensemble of 4 fills" wp-t3 \
+  "$kiln" wp cases/t3_heap.yaml --integrators velocity-verlet,erk2 --dts 1.6e-5,8e-6,4e-6 --quantity heap_angle_deg --seeds 4 --t-end 1 --repeats 1 --set particles.0.fill.count=100
 {
-  echo "## Not yet here"
+  echo "## Hard cases"
   echo
-  echo "The hard cases of issue 5 (a stiff Hertz steel packing, a fine powder where IMEX should win,"
-  echo "the drum at 30 rpm) need scenes that are not shipped yet, and a work-precision diagram of T3"
-  echo "needs a reference that a chaotic pile does not have (only statistics converge)."
+  echo "Largest stable dt per scheme (each line: the boundary that \`kiln sweep\` printed for that scheme),"
+  echo "then a work-precision diagram."
+  echo
 } >> "$doc"
+boundaries() {  # boundaries TITLE SCENE DTMIN DTMAX QUANTITY "SETS..." SCHEME...: one sweep per scheme, its boundary line
+  local title=$1 scene=$2 lo=$3 hi=$4 q=$5 sets=$6
+  shift 6
+  { echo "### $title: stability boundaries"; echo; echo '```'; } >> "$doc"
+  for scheme in "$@"; do
+    echo "running: sweep $scene $scheme" >&2
+    echo "\$ kiln sweep $scene --integrator $scheme --dt-min $lo --dt-max $hi --points 4 --quantity $q $sets" >> "$doc"
+    # shellcheck disable=SC2086
+    "$kiln" sweep "$scene" --integrator "$scheme" --dt-min "$lo" --dt-max "$hi" --points 4 --quantity "$q" $sets 2>&1 |
+      grep -E "stability boundary|no stability boundary" >> "$doc" || true
+  done
+  { echo '```'; echo; } >> "$doc"
+}
+boundaries "N2 reduced (720 stiff Hertz steel discs settling, 5 ms)" cases/n2_heated_steel_bed.yaml 1e-6 3e-5 position \
+  "--t-end 0.005 --set freeze=null" verlet velocity-verlet erk2 erk4 erk5
+run "N2 reduced: mean temperature after 30 min (settle, freeze, heat), ensemble of 4 jittered lattices" wp-n2 \
+  "$kiln" wp cases/n2_heated_steel_bed.yaml --integrators erk4,velocity-verlet,erk2 --dts 4e-6,2e-6 --quantity temperature_mean --seeds 4 --seed-key particles.0.lattice.seed --repeats 1 --set particles.0.lattice.jitter=4e-10
+boundaries "P1 fine powder (200 copper discs of 20 um, compacted and heated)" cases/p1_fine_powder_compaction.yaml 1e-6 1e-4 temperature_mean \
+  "" velocity-verlet erk4 imex3 imex4
+run "P1 fine powder: temperatures at 12 ms (fine reference)" wp-p1 \
+  "$kiln" wp cases/p1_fine_powder_compaction.yaml --integrators velocity-verlet,erk4,imex4 --dts 4e-5,2e-5,1e-5,5e-6,2.5e-6 --quantity temperature --reference fine --repeats 1
+boundaries "T6 drum at 30 rpm (214 discs, first 0.2 s)" cases/t6_drum.yaml 1e-6 2e-4 mixing_index \
+  "--t-end 0.2" verlet velocity-verlet erk2 erk4
+run "T6 drum at 30 rpm: temperature spread at 0.5 s, ensemble of 4 fills" wp-t6 \
+  "$kiln" wp cases/t6_drum.yaml --integrators velocity-verlet,verlet,erk4 --dts 1e-5,5e-6 --quantity temperature_std --seeds 4 --t-end 0.5 --repeats 1
 mv "$doc" docs/studies.md

@@ -171,6 +171,8 @@ int main(int argc, char** argv) {
   order_cmd->add_option("--ratio", order.ratio, "dt_{k+1} = dt_k / ratio (default 2)");
   order_cmd->add_option("--quantity", order.quantity, "position, velocity, temperature or a case quantity");
   order_cmd->add_option("--reference", order.reference, "analytic | richardson | fine");
+  order_cmd->add_option("--fine-rtol", order.fine_rtol, "tolerance of the fine reference (default 1e-11)")
+      ->check(CLI::PositiveNumber);
   kiln::SweepOptions sweep;
   CLI::App* sweep_cmd =
       add_study(app, "sweep", "time-step sensitivity and stability boundary (sweep.json, .csv, .png)", sweep);
@@ -186,6 +188,10 @@ int main(int argc, char** argv) {
   wp_cmd->add_option("--rtols", wp.rtols, "tolerances (adaptive)")->delimiter(',');
   wp_cmd->add_option("--quantity", wp.quantity, "position, velocity, temperature or a case quantity");
   wp_cmd->add_option("--reference", wp.reference, "analytic | fine");
+  wp_cmd->add_option("--fine-rtol", wp.fine_rtol, "tolerance of the fine reference (default 1e-11)")
+      ->check(CLI::PositiveNumber);
+  wp_cmd->add_option("--seeds", wp.seeds, "chaotic scenes: average a scalar over this many fills (noise floor shown)");
+  wp_cmd->add_option("--seed-key", wp.seed_key, "the key --seeds varies (default particles.0.fill.seed)");
   wp_cmd->add_option("--repeats", wp.repeats, "timed runs after a warm-up")->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
   try {

@@ -45,7 +45,8 @@ nlohmann::json run_order_study(const OrderOptions& o) {
   const std::vector<double> reference =
       o.reference == "richardson"
           ? std::vector<double>{}
-          : study_reference(base, o.scene, o.sets, o.quantity, t_end, o.reference, o.dt / std::pow(o.ratio, o.levels));
+          : study_reference(base, o.scene, o.sets, o.quantity, t_end, o.reference, o.dt / std::pow(o.ratio, o.levels),
+                            o.fine_rtol);
 
   std::vector<StudyRun> jobs;
   for (const std::string& name : o.integrators)

@@ -16,6 +16,7 @@ struct OrderOptions {
   double ratio = 2;     // dt_{k+1} = dt_k / ratio
   std::string quantity = "position";
   std::string reference = "analytic";  // analytic | richardson | fine
+  double fine_rtol = 1e-11;             // tolerance of the "fine" reference run
   double t_end = 0;     // 0: the scene's
   std::string out_dir;  // order.json, order.csv, order.png
   int threads = 0;      // 0: every core

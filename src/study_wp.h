@@ -14,7 +14,14 @@ struct WorkPrecisionOptions {
   std::vector<double> dts;    // fixed steps, or
   std::vector<double> rtols;  // tolerances (adaptive; the first step is the scene's dt)
   std::string quantity = "position";
-  std::string reference = "analytic";  // analytic | fine
+  std::string reference = "analytic";  // analytic | fine | ensemble (set by seeds)
+  // Chaotic scenes (piles, drums): a trajectory has no reference beyond its Lyapunov time, so a
+  // scalar quantity is averaged over `seeds` initial fills (seed_key = 1..seeds) and compared with
+  // the same average from the first integrator at half the smallest step (or a tenth of the
+  // smallest rtol); the standard error of the two means is reported as the noise floor.
+  double fine_rtol = 1e-11;  // tolerance of the "fine" reference run
+  int seeds = 0;
+  std::string seed_key = "particles.0.fill.seed";
   double t_end = 0;
   int repeats = 3;  // timed runs after a warm-up; the minimum wall time is kept
   std::string out_dir;
