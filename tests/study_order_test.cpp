@@ -4,6 +4,9 @@
 #include <cmath>
 
 #include "src/error.h"
+#include "src/overrides.h"
+#include "src/scene_yaml.h"
+#include "src/simulation.h"
 #include "src/study_order.h"
 #include "src/study_sweep.h"
 #include "src/study_wp.h"
@@ -114,4 +117,46 @@ TEST_CASE("kiln wp: the error falls monotonically with dt and the JSON has the d
     const auto evals = entry["rhs_evals"].get<std::vector<long>>();
     CHECK(evals.back() > evals.front());
   }
+}
+
+TEST_CASE("kiln wp --seeds: the error is the difference of ensemble means with its standard error as the noise",
+          "[study]") {
+  // A small drum (40 discs, 50 ms): chaotic, so compared over three fills.
+  WorkPrecisionOptions o;
+  o.scene = testing::case_path("t6_drum.yaml");
+  o.sets = {"particles.0.fill.count=40"};
+  o.integrators = {"velocity-verlet"};
+  o.dts = {4e-6};
+  o.quantity = "temperature_std";
+  o.seeds = 3;
+  o.t_end = 0.05;
+  o.repeats = 1;
+  o.quiet = true;
+  const auto s = run_work_precision(o);
+  // The same runs by hand: mean and standard error over the fills at 4e-6 s and at 2e-6 s.
+  auto ensemble = [&](double dt) {
+    std::vector<double> v;
+    for (int seed = 1; seed <= 3; ++seed) {
+      const Scene scene = load_scene(o.scene, {"particles.0.fill.count=40", "particles.0.fill.seed=" + std::to_string(seed),
+                                               "t_end=0.05", "output_interval=0.05", assignment("dt", dt)});
+      v.push_back(run_scene(scene, {"", true})["temperature_std"].get<double>());
+    }
+    const double mean = (v[0] + v[1] + v[2]) / 3;
+    double dev = 0;
+    for (double x : v) dev += (x - mean) * (x - mean);
+    return std::pair{mean, std::sqrt(dev / 2 / 3)};
+  };
+  const auto [run_mean, run_se] = ensemble(4e-6);
+  const auto [ref_mean, ref_se] = ensemble(2e-6);
+  CHECK(s["reference"] == "ensemble");
+  CHECK(s["seeds"] == 3);
+  CHECK(s["reference_value"].get<double>() == Approx(ref_mean).epsilon(1e-12));
+  CHECK(s["reference_standard_error"].get<double>() == Approx(ref_se).epsilon(1e-9));
+  const auto& entry = s["integrators"][0];
+  CHECK(entry["error"][0].get<double>() == Approx(std::abs(run_mean - ref_mean)).epsilon(1e-9));
+  CHECK(entry["noise"][0].get<double>() == Approx(std::hypot(run_se, ref_se)).epsilon(1e-9));
+  CHECK(ref_se > 0);  // the fills differ
+  // A field cannot be averaged over different fills.
+  o.quantity = "temperature";
+  CHECK_THROWS_WITH(run_work_precision(o), Catch::Contains("is a field"));
 }
