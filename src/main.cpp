@@ -79,7 +79,8 @@ int check(const SceneArgs& a) {
   } else {
     std::printf("  shortest contact duration  %.4g s (%s); dt is 1/%.1f of it\n", est.contact_duration,
                 est.shortest_pair.c_str(), est.contact_duration / scene.dt);
-    std::printf("  stability limit of dt      %.4g s (central difference on the stiffest contact)\n", est.dt_limit);
+    std::printf("  stability limit of dt      %.4g s (central difference on the stiffest contact%s)\n", est.dt_limit,
+                scene.n_particles() >= 2 ? ", a disc between two: / sqrt 2" : "");
     if (std::isfinite(est.rayleigh))
       std::printf("  Rayleigh time step         %.4g s (smallest particle); dt is %.1f %% of it\n", est.rayleigh,
                   100 * scene.dt / est.rayleigh);

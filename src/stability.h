@@ -12,7 +12,8 @@ struct StabilityEstimate {
   double contact_duration = INFINITY;  // shortest contact among the pairs the scene can form (s)
   std::string shortest_pair;           // e.g. "copper-copper" or "copper-wall(floor)"
   double rayleigh = INFINITY;          // Rayleigh time of the smallest particle (s); inf without E
-  double dt_limit = INFINITY;          // central-difference stability limit of the stiffest contact (s)
+  double dt_limit = INFINITY;          // central-difference stability limit of the stiffest contact (s),
+                                       // divided by sqrt 2 when a disc can sit between two contacts
   double recommended_dt = INFINITY;    // contact_duration / 50
   double impact_speed = 0;             // speed used for Hertz durations (m/s)
   // Heat (thermal scenes): explicit stepping of conduction is stable below 2 / lambda_max, lambda_max
