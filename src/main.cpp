@@ -65,7 +65,7 @@ CLI::App* add_study(CLI::App& app, const char* name, const char* summary, Option
   cmd->add_option("--out", o.out_dir, std::string("output directory (default out/<scene name>/") + name + ")");
   cmd->add_option("--threads", o.threads, "worker threads")->check(CLI::PositiveNumber);
   cmd->add_option("--set", o.sets, "override a scene value: KEY=VALUE")->take_all();
-  cmd->add_flag("--quiet", o.quiet, "no table");
+  cmd->add_flag("--quiet", o.quiet, "no table and no progress");
   return cmd;
 }
 
@@ -100,12 +100,12 @@ int check(const SceneArgs& a) {
   return verdict.unstable ? 1 : 0;
 }
 
-int run(const SceneArgs& a, std::string out, bool quiet) {
+int run(const SceneArgs& a, std::string out, bool quiet, bool force) {
   const kiln::Scene scene = load(a);
   const kiln::DtVerdict verdict = kiln::judge_dt(kiln::estimate_stability(scene), scene.dt, scene);
   for (const std::string& w : verdict.warnings)
-    std::fprintf(stderr, "%s: %s\n", verdict.unstable ? "error" : "warning", w.c_str());
-  if (verdict.unstable) return 1;
+    std::fprintf(stderr, "%s: %s\n", verdict.unstable && !force ? "error" : "warning", w.c_str());
+  if (verdict.unstable && !force) return 1;
   if (out.empty()) out = "out/" + scene.name;
   const nlohmann::json s = kiln::run_scene(scene, {out, quiet});
   if (!quiet)
@@ -147,11 +147,12 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   SceneArgs run_args, check_args;
   std::string out;
-  bool quiet = false;
+  bool quiet = false, force = false;
   CLI::App* run_cmd = app.add_subcommand("run", "run a scene and write result.h5, result.xdmf, summary.json, picture.png");
   add_scene_options(run_cmd, run_args);
   run_cmd->add_option("--out", out, "output directory (default out/<scene name>)");
   run_cmd->add_flag("--quiet", quiet, "no progress or summary line");
+  run_cmd->add_flag("--force", force, "run even when dt is beyond the estimated limit (to probe where it goes unstable)");
   CLI::App* check_cmd = app.add_subcommand("check", "validate a scene and print its time-step estimates");
   add_scene_options(check_cmd, check_args);
   CLI::App* cases_cmd = app.add_subcommand("cases", "list the shipped cases");
@@ -196,7 +197,7 @@ int main(int argc, char** argv) {
   wp_cmd->add_option("--repeats", wp.repeats, "timed runs after a warm-up")->check(CLI::PositiveNumber);
   CLI11_PARSE(app, argc, argv);
   try {
-    if (*run_cmd) return run(run_args, out, quiet);
+    if (*run_cmd) return run(run_args, out, quiet, force);
     if (*check_cmd) return check(check_args);
     if (*cases_cmd) return list_cases();
     if (*integrators_cmd) return list_integrators();

@@ -25,6 +25,14 @@ struct LineFit {
   double intercept() const { return (sy - slope() * sx) / n; }
 };
 
+// Mean and standard deviation of n values (two passes: no cancellation when the spread is small).
+std::pair<double, double> mean_and_spread(const double* v, int n) {
+  double mean = 0, deviations = 0;
+  for (int i = 0; i < n; ++i) mean += v[i] / n;
+  for (int i = 0; i < n; ++i) deviations += (v[i] - mean) * (v[i] - mean);
+  return {mean, std::sqrt(deviations / n)};
+}
+
 // Bounces of particle 0 (cases T1, T2): contact durations from the gap to the nearest wall,
 // linearly interpolated between steps (O(dt^2)), and apex heights along -g. After a release the
 // flight is ballistic, so the apex follows from the first free sample: h = s + u^2 / (2 |g|),
@@ -131,11 +139,10 @@ class TemperatureObserver final : public Observer {
     const int n = sys_.particles();
     const double* temp = y + sys_.temperature_at();
     const double* px = y + sys_.x_at();
-    double mean = 0, square = 0, heat = 0, left = 0, right = 0, nl = 0, nr = 0;
+    const auto [mean, spread] = mean_and_spread(temp, n);
+    double heat = 0, left = 0, right = 0, nl = 0, nr = 0;
     LineFit fit;
     for (int i = 0; i < n; ++i) {
-      mean += temp[i] / n;
-      square += temp[i] * temp[i] / n;
       heat += sys_.heat_capacity(i) * temp[i];
       (px[i] < 0 ? left : right) += temp[i];
       (px[i] < 0 ? nl : nr) += 1;
@@ -146,7 +153,7 @@ class TemperatureObserver final : public Observer {
     for (int i = 0; i < n; ++i) residual += std::pow(temp[i] - (slope * px[i] + intercept), 2) / n;
     out["temperatures"] = std::vector<double>(temp, temp + n);
     out["temperature_mean"] = mean;
-    out["temperature_std"] = std::sqrt(std::max(0.0, square - mean * mean));
+    out["temperature_std"] = spread;
     out["temperature_min"] = *std::min_element(temp, temp + n);
     out["temperature_max"] = *std::max_element(temp, temp + n);
     out["heat_content"] = heat;
@@ -217,22 +224,11 @@ class MixingObserver final : public Observer {
   }
   void sample(double t, const double* y) override {
     if (t < next_) return;
-    next_ = t + 0.5 * interval_ > next_ + interval_ ? t + interval_ : next_ + interval_;
-    time_.push_back(t);
-    index_.push_back(lacey(y));
-    if (sys_.thermal()) {
-      const int n = sys_.particles();
-      const double* temp = y + sys_.temperature_at();
-      double mean = 0, square = 0;
-      for (int i = 0; i < n; ++i) {
-        mean += temp[i] / n;
-        square += temp[i] * temp[i] / n;
-      }
-      spread_.push_back(std::sqrt(std::max(0.0, square - mean * mean)));
-    }
+    next_ = (std::floor(t / interval_ + 1e-9) + 1) * interval_;
+    record(t, y);
   }
   void report(double t, const double* y, nlohmann::json& out) override {
-    if (time_.empty() || time_.back() < t) sample(next_ = t, y);
+    if (time_.empty() || time_.back() < t) record(t, y);
     out["mixing_index"] = index_.back();
     out["mixing_history"] = {{"time", time_}, {"lacey_index", index_}};
     if (sys_.thermal()) out["mixing_history"]["temperature_std"] = spread_;
@@ -258,6 +254,11 @@ class MixingObserver final : public Observer {
   }
 
  private:
+  void record(double t, const double* y) {
+    time_.push_back(t);
+    index_.push_back(lacey(y));
+    if (sys_.thermal()) spread_.push_back(mean_and_spread(y + sys_.temperature_at(), sys_.particles()).second);
+  }
   double lacey(const double* y) const {
     const int n = sys_.particles();
     const double *px = y + sys_.x_at(), *py = y + sys_.y_at();

@@ -9,10 +9,12 @@ namespace kiln {
 class Progress {
  public:
   Progress(std::string label, bool quiet);
-  void update(double t, double t_end);
+  void update(double t, double t_end);           // a run: simulated time
+  void update_runs(long done, long total);        // a study: finished simulations
   void finish();
 
  private:
+  void show(double fraction, const std::string& what);
   std::string label_;
   bool enabled_;
   bool shown_ = false;

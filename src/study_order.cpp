@@ -51,7 +51,7 @@ nlohmann::json run_order_study(const OrderOptions& o) {
   std::vector<StudyRun> jobs;
   for (const std::string& name : o.integrators)
     for (int level = 0; level < o.levels; ++level) jobs.emplace_back(name, o.dt / std::pow(o.ratio, level));
-  run_study(o.scene, o.sets, t_end, o.quantity, jobs, o.threads);
+  run_study(o.scene, o.sets, t_end, o.quantity, jobs, o.threads, o.quiet);
 
   nlohmann::json out = study_header(base, o.quantity, o.reference, t_end);
   out["ratio"] = o.ratio;

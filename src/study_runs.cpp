@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -13,6 +14,7 @@
 #include "src/nearest.h"
 #include "src/outputs.h"
 #include "src/overrides.h"
+#include "src/progress.h"
 #include "src/scene_yaml.h"
 #include "src/simulation.h"
 
@@ -49,7 +51,8 @@ std::vector<double> quantity_of(const std::string& q, const FinalFields& f, cons
   if (q == "position") return f.position;
   if (q == "velocity") return f.velocity;
   if (q == "temperature") return f.temperature;
-  return {summary.at(q).get<double>()};
+  const nlohmann::json& v = summary.at(q);  // null when the case could not measure it (a heap too small)
+  return {v.is_null() ? NAN : v.get<double>()};
 }
 
 void run_one(const std::string& path, const std::vector<std::string>& base_sets, double t_end, const std::string& q,
@@ -62,9 +65,8 @@ void run_one(const std::string& path, const std::vector<std::string>& base_sets,
   try {
     // One frame at the end (no steps shortened to land on frames), unless the scene freezes or
     // stops by its kinetic energy: that is checked at its frames, so it keeps them.
-    const Scene own = load_scene(path, sets);
-    if (!own.freeze.enabled && own.stop_kinetic_energy == 0) sets.push_back(assignment("output_interval", t_end));
-    const Scene scene = load_scene(path, sets);
+    Scene scene = load_scene(path, sets);
+    if (!scene.freeze.enabled && scene.stop_kinetic_energy == 0) scene.output_interval = t_end;
     const int runs = run.repeats > 1 ? run.repeats + 1 : 1;  // a warm-up first when timing
     double best = INFINITY;
     for (int k = 0; k < runs; ++k) {
@@ -86,14 +88,23 @@ void run_one(const std::string& path, const std::vector<std::string>& base_sets,
 }  // namespace
 
 void run_study(const std::string& scene, const std::vector<std::string>& sets, double t_end, const std::string& quantity,
-               std::vector<StudyRun>& runs, int threads) {
-  std::atomic<size_t> next{0};
+               std::vector<StudyRun>& runs, int threads, bool quiet) {
+  std::atomic<size_t> next{0}, finished{0};
   auto work = [&] {
-    for (size_t k = next++; k < runs.size(); k = next++) run_one(scene, sets, t_end, quantity, runs[k]);
+    for (size_t k = next++; k < runs.size(); k = next++) {
+      run_one(scene, sets, t_end, quantity, runs[k]);
+      ++finished;
+    }
   };
   const int n = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   std::vector<std::thread> pool;
   for (int k = 0; k < n; ++k) pool.emplace_back(work);
+  Progress progress("study", quiet);
+  while (finished < runs.size()) {
+    progress.update_runs(static_cast<long>(finished), static_cast<long>(runs.size()));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  progress.finish();
   for (auto& th : pool) th.join();
 }
 

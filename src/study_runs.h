@@ -25,9 +25,10 @@ struct StudyRun {
   std::string failure;        // why it failed, if it did
 };
 
-// Runs scene (with `sets`) to t_end for every run, on `threads` workers (0: every core).
+// Runs scene (with `sets`) to t_end for every run, on `threads` workers (0: every core), showing
+// how many have finished on a terminal unless quiet.
 void run_study(const std::string& scene, const std::vector<std::string>& sets, double t_end, const std::string& quantity,
-               std::vector<StudyRun>& runs, int threads);
+               std::vector<StudyRun>& runs, int threads, bool quiet = true);
 
 // Quantities a scene can be studied on: its state fields, then the scalars its report: adds.
 std::vector<std::string> study_quantities(const Scene& scene);

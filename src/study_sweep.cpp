@@ -32,7 +32,7 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   for (const std::string& q : quantities) {
     std::vector<StudyRun> runs;
     for (double dt : dts) runs.emplace_back(o.integrator, dt);
-    run_study(o.scene, o.sets, t_end, q, runs, o.threads);
+    run_study(o.scene, o.sets, t_end, q, runs, o.threads, o.quiet);
     per_quantity.push_back(runs);
   }
 
@@ -95,7 +95,7 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
     const bool ok = first[k].failure.empty();
     out["stable"].push_back(ok);
     char line[64];
-    std::snprintf(line, sizeof line, "  %12.4e  %-6s", dts[k], ok ? "yes" : "no");
+    std::snprintf(line, sizeof line, "  %12.4e  %-6s", dts[k], ok ? "yes" : first[k].unstable ? "no" : "error");
     table << line;
     csv << dts[k] << "," << (ok ? 1 : 0);
     for (const std::string& q : quantities) {

@@ -71,7 +71,7 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
     const double finest = *std::min_element(settings.begin(), settings.end()) / (adaptive ? 10 : 2);
     std::vector<StudyRun> ref;
     for (int m = 0; m < members; ++m) ref.push_back(make_run(o.integrators.front(), finest, m));
-    run_study(o.scene, o.sets, t_end, o.quantity, ref, o.threads);
+    run_study(o.scene, o.sets, t_end, o.quantity, ref, o.threads, o.quiet);
     for (const StudyRun& r : ref)
       if (!r.failure.empty()) throw std::runtime_error("an ensemble reference run failed: " + r.failure);
     const auto [mean, se] = ensemble_mean(ref, 0, members);
@@ -80,7 +80,7 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
   } else {
     reference = study_reference(base, o.scene, o.sets, o.quantity, t_end, o.reference, base.dt, o.fine_rtol);
   }
-  run_study(o.scene, o.sets, t_end, o.quantity, runs, o.threads);
+  run_study(o.scene, o.sets, t_end, o.quantity, runs, o.threads, o.quiet);
 
   nlohmann::json out = study_header(base, o.quantity, o.reference, t_end);
   out["setting"] = adaptive ? "rtol" : "dt";
