@@ -60,10 +60,14 @@ inline double linear_contact_duration(double k, double c, double m_eff) {
   return w2 > 0 ? M_PI / std::sqrt(w2) : INFINITY;
 }
 
-// Hertz contact duration for impact speed v (undamped): 2.868 (m*^2 / (k^2 v))^(1/5) with
-// k = 4/3 E* sqrt(R*) (Johnson, Contact Mechanics, eq. 11.24 rewritten for k).
+// Hertz contact duration for impact speed v (undamped): 2.94328 delta_max / v with
+// delta_max = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5) (Johnson, Contact Mechanics, 1985, eqs. 11.23
+// and 11.24), rewritten for k = 4/3 E* sqrt(R*): delta_max = (5 m* v^2 / (4 k))^(2/5), so
+// t_c = 2.94328 (5/4)^(2/5) (m*^2 / (k^2 v))^(1/5) = 3.2181 (m*^2 / (k^2 v))^(1/5).
+// (Johnson's 2.87 belongs to the form with E* and R* written out, not to k.)
 inline double hertz_contact_duration(double k, double m_eff, double v) {
-  return 2.868265699 * std::pow(m_eff * m_eff / (k * k * v), 0.2);
+  constexpr double hertz_time_constant = 2.9432752;  // 2 int_0^1 du / sqrt(1 - u^(5/2)) = (4/5) B(2/5, 1/2)
+  return hertz_time_constant * std::pow(1.25 * m_eff / k, 0.4) * std::pow(v, -0.2);
 }
 
 }  // namespace kiln::contact

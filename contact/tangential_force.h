@@ -1,11 +1,18 @@
-// Tangential contact force: an incremental spring with a dashpot, limited by Coulomb friction.
-// CSIRO [csiro-dem-spring-dashpot.txt]: F_t = min(mu F_n, k_t v_t dt + C v_t). The spring's
-// elongation is the contact's history. In 2D the tangent at a contact is the line perp(n), so the
-// elongation is a scalar along t = perp(n): it turns with the contact by construction.
+// Tangential contact force: a spring with a dashpot, limited by Coulomb friction.
+// CSIRO [csiro-dem-spring-dashpot.txt]: F_t = min(mu F_n, k_t xi + c_t v_t), xi the tangential
+// elongation (the contact's history). In 2D the tangent at a contact is t = perp(n), so the
+// elongation is a scalar along t: it turns with the contact by construction.
+//
+// The elongation is a function of the state, not of the step: it is the elongation at the last
+// accepted step plus the relative tangential displacement of the two contact points since then
+// (contact/contact_frame.h), then the Coulomb cap. So every stage of a multi-stage method sees
+// the elongation that belongs to its own state, and a method keeps its order in stick (an
+// increment v_t dt from one slip rate per step would be a rectangle rule: first order).
+//
 // When the trial force exceeds mu F_n the contact slides: the force is capped at mu F_n and the
-// spring alone is set to carry it, k_t |s| = mu F_n (as LIGGGHTS does; LAMMPS gran/hooke/history
-// also folds the dashpot into the spring, which stores an unphysical c_t v_t/k_t elongation while
-// sliding fast). Sticking then resumes without a jump, since the slip speed is zero there.
+// spring alone is set to carry it, k_t |xi| = mu F_n (as LIGGGHTS does; LAMMPS gran/hooke/history
+// also folds the dashpot into the spring, which stores an unphysical c_t v_t / k_t elongation
+// while sliding fast). Sticking then resumes without a jump, since the slip speed is zero there.
 #pragma once
 #include <cmath>
 
@@ -18,52 +25,30 @@ struct TangentialLaw {
 };
 
 struct TangentialResult {
-  double force = 0;   // along t = perp(n), acting on particle i
-  double spring = 0;  // new elongation (m)
+  double force = 0;   // along t = perp(n), acting on particle i (N)
+  double spring = 0;  // elongation after the Coulomb cap (m)
   bool sliding = false;
-  // Power turned into heat over the interval dt: the work of the force on the slip minus what
-  // the spring stored, -F_t v_t - (E(spring') - E(spring)) / dt. It includes the dashpot,
-  // sliding, and the spring energy cut away by the Coulomb cap, so the ledger closes exactly.
-  double dissipation = 0;
 };
 
-// `spring` is the committed elongation, `slip_speed` the tangential relative velocity of i with
-// respect to j along t, `dt` the time since the elongation was committed (and `inv_dt` its
-// reciprocal, 0 when dt = 0: hoisted out of the contact loop), `normal` = F_n >= 0.
-inline TangentialResult tangential_force(const TangentialLaw& law, double spring, double slip_speed, double dt,
-                                         double inv_dt, double normal) {
+// `elongation`: the trial elongation of this state (m); `slip_speed`: the tangential relative
+// velocity of i's contact point against the other body's, along t (m/s); `normal` = F_n (N): a
+// tensile contact (F_n <= 0) holds no friction.
+inline TangentialResult tangential_force(const TangentialLaw& law, double elongation, double slip_speed,
+                                         double normal) {
   TangentialResult r;
-  r.spring = spring + slip_speed * dt;
-  r.force = -law.k * r.spring - law.c * slip_speed;
-  const double limit = law.mu * (normal > 0 ? normal : 0.0);  // a tensile contact holds no friction
+  r.spring = elongation;
+  r.force = -law.k * elongation - law.c * slip_speed;
+  const double limit = law.mu * (normal > 0 ? normal : 0.0);
   if (std::abs(r.force) > limit) {
     r.force = std::copysign(limit, r.force);
-    r.spring = -r.force / law.k;
+    r.spring = law.k > 0 ? -r.force / law.k : 0.0;  // a Hertz spring vanishes with the overlap
     r.sliding = true;
-  }
-  if (dt > 0) {
-    r.dissipation = -r.force * slip_speed - 0.5 * law.k * (r.spring * r.spring - spring * spring) * inv_dt;
-  } else {  // at the committed instant itself: the instantaneous rate
-    r.dissipation = r.sliding ? -r.force * slip_speed : law.c * slip_speed * slip_speed;
   }
   return r;
 }
 
-// Power released when a contact with elongation `spring` opens within dt: its spring energy.
-inline double release_dissipation(const TangentialLaw& law, double spring, double dt) {
-  return dt > 0 ? 0.5 * law.k * spring * spring / dt : 0.0;
-}
-
 inline double tangential_elastic_energy(const TangentialLaw& law, double spring) {
   return 0.5 * law.k * spring * spring;
-}
-
-// Constant rolling resistance (Lethe's "constant" model, Ai et al. 2011 model A): a torque of
-// magnitude mu_r R* F_n opposing the relative rolling rate omega_i - omega_j; returns the torque
-// on particle i (particle j receives the opposite).
-inline double rolling_torque(double mu_r, double r_eff, double normal, double relative_spin) {
-  if (relative_spin == 0) return 0;
-  return -std::copysign(mu_r * r_eff * normal, relative_spin);
 }
 
 }  // namespace kiln::contact

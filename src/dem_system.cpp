@@ -42,8 +42,10 @@ DemSystem::DemSystem(const Scene& scene)
       f.tension = law.tension;
       f.tangential = law.friction > 0;
       f.rolling = law.rolling_friction > 0;
-      f.kt_ratio = law.tangential_stiffness_ratio * (f.hertz ? 1.5 : 1.0);
+      f.kt_ratio = law.tangential_stiffness_ratio;
       f.ct_ratio = law.tangential_damping_ratio;
+      f.rolling_model = law.rolling_model;
+      f.eta_roll = law.rolling_damping_ratio;
       f.beta = law.damping_rate > 0 ? 0 : contact::restitution_damping(law.restitution, f.hertz, f.tension);
       const Material &ma = scene.materials[a], &mb = scene.materials[b];
       f.conduction = {law.conduction, ma.conductivity, mb.conductivity, law.conductance, law.modulus_ratio,
@@ -52,16 +54,18 @@ DemSystem::DemSystem(const Scene& scene)
         f.heat_share = thermal::heat_partition(ma.electrical_resistivity, mb.electrical_resistivity, ma.conductivity,
                                                mb.conductivity);
     }
-  // A scene that uses friction or rolling resistance anywhere carries rotation; otherwise discs
-  // cannot spin and no angles are integrated.
-  for (int i = 0; i < n_ && !rotates_; ++i) {
-    for (int b = 0; b < nm; ++b) {
-      const LawFlags& f = flags_[scene.material[i] * nm + b];
-      rotates_ = rotates_ || f.tangential || f.rolling;
-      has_tangential_ = has_tangential_ || f.tangential;
-    }
+  // A scene that uses friction or rolling resistance anywhere carries rotation and contact
+  // history; otherwise discs cannot spin and no angles are integrated.
+  std::vector<bool> used(nm, false);
+  for (int i = 0; i < n_; ++i) {
+    used[scene.material[i]] = true;
     rotates_ = rotates_ || scene.angular_velocity[i] != 0;
   }
+  bool history = false;
+  for (int a = 0; a < nm; ++a)
+    for (int b = 0; b < nm && used[a]; ++b) history = history || flags_[a * nm + b].tangential || flags_[a * nm + b].rolling;
+  rotates_ = rotates_ || history;
+  pp_.history = pw_.history = history;
   thermal_ = scene.thermal;
   events_ = scene.control.contact_events;
   layout_.nq = (rotates_ ? 3 : 2) * n_;
@@ -159,11 +163,39 @@ void DemSystem::rebuild(double t, const double* y) {
   pw_.replace(candidates_);
   set_coefficients(pw_, true);
   if (events_) lock_contacts(t, y, nullptr);
+  if (pp_.history) frame_new_contacts(t, y);
   std::copy_n(px, n_, x_ref_.data());
   std::copy_n(py, n_, y_ref_.data());
   t_ref_ = t;
   built_ = true;
   ++rebuilds_;
+}
+
+// Contacts present at the start of a run (or touching when they enter the list) are measured
+// from the state they are first seen in: their springs start there, unstretched.
+void DemSystem::frame_new_contacts(double t, const double* y) {
+  const double *px = y + x_at(), *py = y + y_at(), *angle = y + angle_at();
+  for (int p = 0; p < pp_.size(); ++p) {
+    if (pp_.frame[p].arm > 0) continue;
+    const int i = pp_.i[p], j = pp_.j[p];
+    const double dx = px[j] - px[i], dy = py[j] - py[i], d = std::hypot(dx, dy);
+    const double overlap = radius_[i] + radius_[j] - d;
+    if (overlap <= 0) continue;
+    pp_.frame[p] = pp_.trial_frame[p] = {dx / d, dy / d, 0.0, -d, contact::pair_arm(radius_[i], overlap), angle[i], angle[j]};
+  }
+  update_walls(t);
+  for (int p = 0; p < pw_.size(); ++p) {
+    if (pw_.frame[p].arm > 0) continue;
+    const int i = pw_.i[p], sgi = pw_.j[p];
+    WallHit hit;
+    const Vec2 centre{px[i], py[i]};
+    if (!disc_segment_contact(scene_.segments, seg_a_, seg_b_, sgi, centre, radius_[i], hit)) continue;
+    const WallMotion& motion = scene_.walls[scene_.segments[sgi].wall].motion;
+    const double wall_angle = motion.kind == WallMotion::Kind::rotate ? motion.omega * t : 0.0;
+    const Vec2 rho = centre - seg_a_[sgi];
+    pw_.frame[p] = pw_.trial_frame[p] = {hit.normal.x, hit.normal.y, dot(rho, perp(hit.normal)), dot(rho, hit.normal),
+                                         radius_[i], angle[i], wall_angle};
+  }
 }
 
 void DemSystem::set_coefficients(ContactList& list, bool walls) {
@@ -185,54 +217,78 @@ void DemSystem::set_coefficients(ContactList& list, bool walls) {
   }
 }
 
-void DemSystem::accept(double t) {
+void DemSystem::accept(double) {
   pp_.commit();
   pw_.commit();
-  t_committed_ = t;
 }
 
 namespace {
 
 // Everything the force loops read, gathered once per evaluation.
 struct Fields {
-  const double *x, *y, *vx, *vy, *w;
+  const double *x, *y, *angle, *vx, *vy, *w;
   double *fx, *fy, *torque;
 };
 
-// Forces of one contact with normal n (from i towards the other body), overlap > 0, relative
-// velocity `vrel` of i's surface against the other's at the contact. Returns the normal force
-// and writes the tangential force along t = perp(n) and the new elongation.
-struct ContactForce {
-  double normal = 0, tangential = 0;
-  double damping_power = 0, friction_power = 0;  // dissipated (W)
-};
-
-inline ContactForce contact_force(const contact::NormalLaw& nl, double overlap, double vn, double vt, double kt,
-                                  double ct, double mu, bool tangential, double spring, double dt_hist,
-                                  double inv_dt_hist, double& trial) {
-  ContactForce f;
-  f.normal = contact::normal_force(nl, overlap, vn);
-  f.damping_power = contact::normal_dissipation(nl, overlap, vn, f.normal);
-  if (tangential) {
-    const double scale = nl.hertz ? std::sqrt(std::fmax(overlap, 0.0)) : 1.0;
-    const double cscale = nl.hertz ? std::sqrt(scale) : 1.0;
-    const auto t = contact::tangential_force({kt * scale, ct * cscale, mu}, spring, vt, dt_hist, inv_dt_hist, f.normal);
-    f.tangential = t.force;
-    f.friction_power = t.dissipation;
-    trial = t.spring;
-  }
-  return f;
+// Linear(ised) normal stiffness: k, or dF/d(overlap) of the Hertz spring, 3/2 k delta^1/2. The
+// tangential and rolling springs scale with it.
+inline double linearised_stiffness(const contact::NormalLaw& nl, double overlap) {
+  return nl.hertz ? 1.5 * nl.k * std::sqrt(std::fmax(overlap, 0.0)) : nl.k;
 }
 
 }  // namespace
 
-// A pair that is not touching has no tangential spring; an elongation it still had is released
-// (its energy counted as dissipated). Hertz springs have vanished with the overlap already.
-double DemSystem::release(ContactList& list, int p, double dt_hist) const {
+void DemSystem::forget(ContactList& list, int p) {
   list.trial[p] = 0;
-  const LawFlags& lf = flags_[list.law[p]];
-  if (!lf.tangential || lf.hertz || list.spring[p] == 0) return 0;
-  return contact::release_dissipation({lf.kt_ratio * list.k[p], 0, 0}, list.spring[p], dt_hist);
+  list.trial_roll[p] = 0;
+  list.trial_frame[p].arm = 0;
+}
+
+DemSystem::PairMasses DemSystem::pair_masses(int i, int j) const {
+  if (j < 0) return {mass_[i], inertia_[i] + mass_[i] * radius_[i] * radius_[i], radius_[i]};
+  const double ri = inertia_[i] + mass_[i] * radius_[i] * radius_[i];
+  const double rj = inertia_[j] + mass_[j] * radius_[j] * radius_[j];
+  return {mass_[i] * mass_[j] / (mass_[i] + mass_[j]), ri * rj / (ri + rj),
+          radius_[i] * radius_[j] / (radius_[i] + radius_[j])};
+}
+
+contact::TangentialLaw DemSystem::tangential_law(const LawFlags& lf, const contact::NormalLaw& nl,
+                                                 double overlap) const {
+  const double quarter = nl.hertz ? std::sqrt(std::sqrt(std::fmax(overlap, 0.0))) : 1.0;
+  return {lf.kt_ratio * linearised_stiffness(nl, overlap), lf.ct_ratio * nl.c * quarter, lf.mu};
+}
+
+contact::RollingLaw DemSystem::rolling_law(const LawFlags& lf, const contact::NormalLaw& nl, double overlap,
+                                           const PairMasses& pm, double normal) const {
+  return contact::rolling_law(lf.rolling_model, lf.mu_roll, linearised_stiffness(nl, overlap), pm.r_eff, pm.inertia,
+                              pm.m_eff, lf.eta_roll, normal);
+}
+
+// The tangential and rolling springs of one touching contact at this state: their trial values
+// are the committed ones plus what the contact points moved since the committed frame.
+DemSystem::Friction DemSystem::friction(ContactList& list, int p, const LawFlags& lf, const contact::NormalLaw& nl,
+                                        const ContactState& c, double normal) const {
+  Friction f;
+  const contact::ContactFrame& from = list.frame[p];
+  const bool known = from.arm > 0;  // a contact that began in this step starts unstretched
+  if (lf.tangential) {
+    const contact::TangentialLaw law = tangential_law(lf, nl, c.overlap);
+    const double trial = known ? list.spring[p] + contact::tangential_displacement(from, c.frame) : 0.0;
+    const contact::TangentialResult t = contact::tangential_force(law, trial, c.slip_speed, normal);
+    list.trial[p] = t.spring;
+    f.force = t.force;
+    f.work_rate -= t.force * c.slip_speed;
+  }
+  if (lf.rolling) {
+    const contact::RollingLaw law = rolling_law(lf, nl, c.overlap, c.masses, normal);
+    const double trial = known ? list.roll[p] + contact::relative_rotation(from, c.frame) : 0.0;
+    const contact::RollingResult r = contact::rolling_torque(law, trial, c.relative_spin);
+    list.trial_roll[p] = r.spring;
+    f.torque = r.torque;
+    f.work_rate -= r.torque * c.relative_spin;
+  }
+  list.trial_frame[p] = c.frame;
+  return f;
 }
 
 void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, const double* temps) {
@@ -249,18 +305,30 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
     return;
   }
   std::copy_n(y + nq, nq, ydot);  // dq/dt = v
-  Fields s{y + x_at(), y + y_at(), y + vx_at(), y + vy_at(), rotates_ ? y + omega_at() : nullptr,
-           ydot + vx_at(), ydot + vy_at(), rotates_ ? ydot + omega_at() : nullptr};
+  Fields s{y + x_at(), y + y_at(), rotates_ ? y + angle_at() : nullptr, y + vx_at(), y + vy_at(),
+           rotates_ ? y + omega_at() : nullptr, ydot + vx_at(), ydot + vy_at(), rotates_ ? ydot + omega_at() : nullptr};
   std::fill_n(ydot + nq, nq, 0.0);
   if (moving_walls_) update_walls(t);
-  const double dt_hist = t - t_committed_;
-  const double inv_dt_hist = dt_hist > 0 ? 1 / dt_hist : 0.0;
-  double damping = 0, friction = 0, walls_work = 0, worst = 0;
+  const bool history = pp_.history;
+  double damping = 0, friction_work = 0, walls_work = 0, worst = 0;
   // Heat (thermal scenes only): dissipation turned to heat here; conduction, the implicit part
   // under IMEX, after the contact loops.
   double* heat = thermal_ ? ydot + temperature_at() : nullptr;
   if (thermal_) std::fill_n(heat, n_, 0.0);
   double heat_generated = 0;
+  // The dissipation that becomes heat, shared by beta (Nguyen et al. 2009, eq. 1:
+  // m c_p dT/dt = sum_j (H (T_j - T_i) + E_f / (2 dt))); conduction is added by conduct().
+  // Friction heat is booked as the work of friction on the relative motion: what a spring
+  // holds for a while is heat-to-be, subtracted again in energy() (see the header).
+  auto make_heat = [&](double work_rate, double damping_power, int i, int j, double share) {
+    const double generated = heat_power_factor_friction_ * work_rate + heat_power_factor_damping_ * damping_power;
+    heat[i] += share * generated;
+    heat_generated += share * generated;
+    if (j >= 0) {  // a wall keeps its share
+      heat[j] += (1 - share) * generated;
+      heat_generated += (1 - share) * generated;
+    }
+  };
 
   // Particle-particle contacts.
   for (int p = 0, np = pp_.size(); p < np; ++p) {
@@ -271,7 +339,7 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
     // With contact events the acting set is locked for the step: an acting contact keeps its
     // (continued) law past separation until its release is located, a new one waits for its onset.
     if (events_ ? !pp_.active[p] : d2 >= rsum * rsum) {
-      friction += release(pp_, p, dt_hist);
+      if (history) forget(pp_, p);
       continue;
     }
     const double d = std::sqrt(d2);
@@ -279,102 +347,80 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
     const double nx = dx * inv_d, ny = dy * inv_d;  // from i to j
     const double overlap = rsum - d;
     const LawFlags& lf = flags_[pp_.law[p]];
-    double rvx = s.vx[i] - s.vx[j], rvy = s.vy[i] - s.vy[j];
-    if (s.w) {  // surface velocity from spin: (w_i r_i + w_j r_j) perp(n)
-      const double spin = s.w[i] * radius_[i] + s.w[j] * radius_[j];
-      rvx -= spin * ny;
-      rvy += spin * nx;
+    const double rvx = s.vx[i] - s.vx[j], rvy = s.vy[i] - s.vy[j];
+    const double vn = rvx * nx + rvy * ny;          // approach speed
+    const double drift = -rvx * ny + rvy * nx;      // the centres' relative velocity along t
+    const contact::NormalLaw nl{pp_.k[p], pp_.c[p], lf.hertz, lf.tension};
+    const double fn = contact::normal_force(nl, overlap, vn);
+    const double damping_power = contact::normal_dissipation(nl, overlap, vn, fn);
+    Friction fr;
+    if (history && (lf.tangential || lf.rolling)) {
+      const double arm_i = contact::pair_arm(radius_[i], overlap), arm_j = contact::pair_arm(radius_[j], overlap);
+      const ContactState c{{nx, ny, 0.0, -d, arm_i, s.angle[i], s.angle[j]}, pair_masses(i, j), overlap, vn,
+                           drift + s.w[i] * arm_i + s.w[j] * arm_j, s.w[i] - s.w[j]};
+      fr = friction(pp_, p, lf, nl, c, fn);
+      s.torque[i] += arm_i * fr.force + fr.torque;
+      s.torque[j] += arm_j * fr.force - fr.torque;
+    } else if (history) {
+      forget(pp_, p);
     }
-    const double vn = rvx * nx + rvy * ny;   // approach speed
-    const double vt = -rvx * ny + rvy * nx;  // slip along t = perp(n)
-    const ContactForce f = contact_force({pp_.k[p], pp_.c[p], lf.hertz, lf.tension}, overlap, vn, vt,
-                                         lf.kt_ratio * pp_.k[p], lf.ct_ratio * pp_.c[p], lf.mu, lf.tangential, pp_.spring[p], dt_hist, inv_dt_hist, pp_.trial[p]);
-    const double fx = -f.normal * nx - f.tangential * ny;
-    const double fy = -f.normal * ny + f.tangential * nx;
+    const double fx = -fn * nx - fr.force * ny;
+    const double fy = -fn * ny + fr.force * nx;
     s.fx[i] += fx;
     s.fy[i] += fy;
     s.fx[j] -= fx;
     s.fy[j] -= fy;
-    damping += f.damping_power;
-    friction += f.friction_power;
-    double rolling_power = 0;
-    if (s.torque) {
-      s.torque[i] += radius_[i] * f.tangential;
-      s.torque[j] += radius_[j] * f.tangential;
-      if (lf.rolling) {
-        const double spin = s.w[i] - s.w[j];
-        const double m = contact::rolling_torque(lf.mu_roll, radius_[i] * radius_[j] / rsum, f.normal, spin);
-        s.torque[i] += m;
-        s.torque[j] -= m;
-        rolling_power = -m * spin;
-        friction += rolling_power;
-      }
-    }
-    if (heat) {
-      // The dissipation that becomes heat, shared by beta (Nguyen et al. 2009:
-      // m c_p dT/dt = sum_j (H (T_j - T_i) + E_f / (2 dt))); conduction is added by conduct().
-      const double generated = heat_power_factor_friction_ * (f.friction_power + rolling_power) +
-                               heat_power_factor_damping_ * f.damping_power;
-      heat[i] += lf.heat_share * generated;
-      heat[j] += (1 - lf.heat_share) * generated;
-      heat_generated += generated;
-    }
+    damping += damping_power;
+    friction_work += fr.work_rate;
+    if (heat) make_heat(fr.work_rate, damping_power, i, j, lf.heat_share);
     worst = std::max(worst, overlap * std::max(inv_radius_[i], inv_radius_[j]));
   }
 
-  // Particle-wall contacts. A wall point's velocity enters the relative velocity; the work the
-  // wall does on the particle is F . u_wall.
+  // Particle-wall contacts. The contact point is at the disc's lever arm, its full radius: the
+  // wall's velocity there enters the relative velocity, and the work the wall does on the
+  // particle is F . u_wall (plus the rolling couple times the wall's spin).
   for (int p = 0, np = pw_.size(); p < np; ++p) {
     const int i = pw_.i[p], sgi = pw_.j[p];
     const double r = radius_[i];
     WallHit hit;
+    const Vec2 centre{s.x[i], s.y[i]};
     if ((events_ && !pw_.active[p]) ||
-        !disc_segment_contact(scene_.segments, seg_a_, seg_b_, sgi, {s.x[i], s.y[i]}, r, hit, events_)) {
-      friction += release(pw_, p, dt_hist);
+        !disc_segment_contact(scene_.segments, seg_a_, seg_b_, sgi, centre, r, hit, events_)) {
+      if (history) forget(pw_, p);
       continue;
     }
     const Vec2 n = hit.normal;
     const double overlap = hit.overlap;
-    const Vec2 closest = hit.closest;
-    const int wall = scene_.segments[sgi].wall;
-    const Vec2 u = wall_velocity_at(scene_.walls[wall].motion, closest, t);
+    const WallMotion& motion = scene_.walls[scene_.segments[sgi].wall].motion;
+    const Vec2 point = centre + r * n;
+    const Vec2 u = wall_velocity_at(motion, point, t);
     const LawFlags& lf = flags_[pw_.law[p]];
-    double rvx = s.vx[i] - u.x, rvy = s.vy[i] - u.y;
-    if (s.w) {
-      rvx -= s.w[i] * r * n.y;
-      rvy += s.w[i] * r * n.x;
-    }
+    const double rvx = s.vx[i] - u.x, rvy = s.vy[i] - u.y;
     const double vn = rvx * n.x + rvy * n.y;
-    const double vt = -rvx * n.y + rvy * n.x;
-    const ContactForce f = contact_force({pw_.k[p], pw_.c[p], lf.hertz, lf.tension}, overlap, vn, vt,
-                                         lf.kt_ratio * pw_.k[p], lf.ct_ratio * pw_.c[p], lf.mu, lf.tangential, pw_.spring[p], dt_hist, inv_dt_hist, pw_.trial[p]);
-    const double fx = -f.normal * n.x - f.tangential * n.y;
-    const double fy = -f.normal * n.y + f.tangential * n.x;
+    const double drift = -rvx * n.y + rvy * n.x;
+    const contact::NormalLaw nl{pw_.k[p], pw_.c[p], lf.hertz, lf.tension};
+    const double fn = contact::normal_force(nl, overlap, vn);
+    const double damping_power = contact::normal_dissipation(nl, overlap, vn, fn);
+    const double wall_spin = motion.kind == WallMotion::Kind::rotate ? motion.omega : 0.0;
+    Friction fr;
+    if (history && (lf.tangential || lf.rolling)) {
+      const Vec2 rho = centre - seg_a_[sgi];  // from a point fixed on the wall
+      const ContactState c{{n.x, n.y, dot(rho, perp(n)), dot(rho, n), r, s.angle[i], wall_spin * t},
+                           pair_masses(i, -1), overlap, vn, drift + s.w[i] * r, s.w[i] - wall_spin};
+      fr = friction(pw_, p, lf, nl, c, fn);
+      s.torque[i] += r * fr.force + fr.torque;
+      walls_work += fr.torque * wall_spin;
+    } else if (history) {
+      forget(pw_, p);
+    }
+    const double fx = -fn * n.x - fr.force * n.y;
+    const double fy = -fn * n.y + fr.force * n.x;
     s.fx[i] += fx;
     s.fy[i] += fy;
-    damping += f.damping_power;
-    friction += f.friction_power;
+    damping += damping_power;
+    friction_work += fr.work_rate;
     walls_work += fx * u.x + fy * u.y;
-    double rolling_power = 0;
-    if (s.torque) {
-      s.torque[i] += r * f.tangential;
-      if (lf.rolling) {
-        const WallMotion& m = scene_.walls[wall].motion;
-        const double wall_spin = m.kind == WallMotion::Kind::rotate ? m.omega : 0.0;
-        const double spin = s.w[i] - wall_spin;
-        const double mr = contact::rolling_torque(lf.mu_roll, r, f.normal, spin);
-        s.torque[i] += mr;
-        rolling_power = -mr * spin;
-        friction += rolling_power;
-        walls_work += mr * wall_spin;
-      }
-    }
-    if (heat) {  // the wall keeps its share of frictional heat
-      const double generated = lf.heat_share * (heat_power_factor_friction_ * (f.friction_power + rolling_power) +
-                                                heat_power_factor_damping_ * f.damping_power);
-      heat[i] += generated;
-      heat_generated += generated;
-    }
+    if (heat) make_heat(fr.work_rate, damping_power, i, -1, lf.heat_share);
     worst = std::max(worst, overlap * inv_radius_[i]);
   }
 
@@ -389,7 +435,7 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
     for (int i = 0; i < n_; ++i) s.torque[i] *= inv_inertia_[i];
   double* ledger = ydot + ledger_at();
   ledger[ledger_damping] = damping;
-  ledger[ledger_friction] = friction;
+  ledger[ledger_friction] = friction_work;
   ledger[ledger_walls] = walls_work;
   if (heat) {
     for (int i = 0; i < n_; ++i) heat[i] *= inv_capacity_[i];
@@ -462,35 +508,46 @@ EnergyLedger DemSystem::energy(double t, const double* y) const {
   }
   std::vector<Vec2> a, b;
   wall_geometry(t, a, b);
-  double normal_elastic = 0, tangential_elastic = 0;
-  auto add = [&](const ContactList& list, int p, double overlap) {
+  // The springs of the contacts as committed at the last accepted step (energy is asked for at
+  // step ends, where the committed history belongs to the state).
+  // held: the particles' shares of what friction springs hold, booked in their temperatures
+  // already (evaluate books friction heat as work).
+  double normal_elastic = 0, friction_elastic = 0, held = 0;
+  auto add = [&](const ContactList& list, int p, int j, double overlap) {
     const LawFlags& lf = flags_[list.law[p]];
-    normal_elastic += contact::normal_elastic_energy({list.k[p], list.c[p], lf.hertz, lf.tension}, overlap);
-    if (lf.tangential) {
-      const double kt = lf.kt_ratio * list.k[p] * (lf.hertz ? std::sqrt(overlap) : 1.0);
-      tangential_elastic += contact::tangential_elastic_energy({kt, 0, 0}, list.spring[p]);
-    }
+    const contact::NormalLaw nl{list.k[p], list.c[p], lf.hertz, lf.tension};
+    normal_elastic += contact::normal_elastic_energy(nl, overlap);
+    if (!list.history) return;
+    double stored = 0;
+    if (lf.tangential) stored += contact::tangential_elastic_energy(tangential_law(lf, nl, overlap), list.spring[p]);
+    if (lf.rolling)
+      stored += contact::rolling_elastic_energy(rolling_law(lf, nl, overlap, pair_masses(list.i[p], j), 0.0), list.roll[p]);
+    friction_elastic += stored;
+    held += (j >= 0 ? 1.0 : lf.heat_share) * stored;
   };
   for (int p = 0; p < pp_.size(); ++p) {
     const int i = pp_.i[p], j = pp_.j[p];
     const double overlap = radius_[i] + radius_[j] - std::hypot(px[j] - px[i], py[j] - py[i]);
-    if (overlap > 0) add(pp_, p, overlap);
+    if (overlap > 0) add(pp_, p, j, overlap);
   }
   for (int p = 0; p < pw_.size(); ++p) {
     const int i = pw_.i[p];
     WallHit hit;
     if (disc_segment_contact(scene_.segments, a, b, pw_.j[p], {px[i], py[i]}, radius_[i], hit))
-      add(pw_, p, hit.overlap);
+      add(pw_, p, -1, hit.overlap);
   }
   const double* ledger = y + ledger_at();
-  e.elastic = normal_elastic + tangential_elastic;
+  e.elastic = normal_elastic + friction_elastic;
   e.dissipated_damping = ledger[ledger_damping];
-  e.dissipated_friction = ledger[ledger_friction];
+  // What friction and rolling resistance did on the relative motion, less what their springs hold.
+  e.dissipated_friction = ledger[ledger_friction] - friction_elastic;
   e.work_by_walls = ledger[ledger_walls];
   if (thermal_) {
+    held *= heat_power_factor_friction_;
     for (int i = 0; i < n_; ++i) e.thermal += capacity_[i] * y[temperature_at() + i];
+    e.thermal -= held;
     e.heat_from_walls = ledger[ledger_heat_walls];
-    e.heat_from_dissipation = ledger[ledger_heat_generated];
+    e.heat_from_dissipation = ledger[ledger_heat_generated] - held;
   }
   return e;
 }

@@ -3,17 +3,29 @@
 // State y = [q | v | z], structure of arrays:
 //   q = x (N), y (N) and, only when some contact has friction or rolling resistance, angle (N);
 //   v = vx, vy, omega (same layout); z = the energy ledger: energy dissipated by the normal
-//   dashpots, energy dissipated by friction (tangential dashpot, sliding, rolling resistance),
-//   work done by moving walls.
+//   dashpots, work done by the tangential forces and rolling torques on the relative motion of
+//   the contacts (what they dissipated plus what their springs hold), work done by moving walls.
 // Only non-conservative power is integrated; elastic and kinetic energy come from the state.
 // Integrating the ledger as part of the state makes it as accurate as the trajectory, whichever
 // integrator runs, and closes the energy balance (see energy.h).
 //
+// Friction heat (heat_from_dissipation) is booked as the work of friction and rolling resistance
+// on the relative motion, shared by beta: while a friction spring holds energy, its particles'
+// temperatures include their shares of it (at most 1/2 k_t xi^2 per contact, ~1e-9 J in the
+// shipped cases), and energy() subtracts it from `thermal` and `heat_from_dissipation`. So the
+// heat made equals the friction dissipation of the ledger exactly, whatever the springs did;
+// a heat rate from stick and slip phases could not be: the Coulomb cap resets the spring (the
+// LIGGGHTS choice, tangential_force.h), which moves stored energy by a jump.
+//
 // One derivative evaluation: positions and velocities in, accelerations and ledger rates out.
-// Contact history is written to a trial array and kept only when the step is accepted.
+// Contact history (springs measured from the contact frame of the last accepted step) is written
+// to trial arrays and kept only when the step is accepted.
 #pragma once
 #include <vector>
 
+#include "contact/normal_force.h"
+#include "contact/rolling_resistance.h"
+#include "contact/tangential_force.h"
 #include "integrators/integrator.h"
 #include "src/broadphase.h"
 #include "src/contact_list.h"
@@ -25,7 +37,7 @@ namespace kiln {
 // The first-order part z: the ledger integrals, then (thermal scenes) one temperature per particle.
 enum Ledger {
   ledger_damping = 0,
-  ledger_friction = 1,
+  ledger_friction = 1,  // work of friction and rolling resistance; dissipated = this - spring energy
   ledger_walls = 2,
   ledger_heat_walls = 3,
   ledger_heat_generated = 4,
@@ -49,7 +61,7 @@ class DemSystem final : public OdeSystem {
   void rebuild_neighbours(double t, const double* y) override { rebuild(t, y); }
   void derivative(double t, const double* y, double* ydot) override { evaluate(t, y, ydot, Part::all, nullptr); }
   void accept(double t) override;
-  bool has_history() const override { return has_tangential_; }
+  bool has_history() const override { return pp_.history; }
   // IMEX: conduction (linear in the temperatures) is the implicit part; all else is explicit.
   bool has_implicit_part() const override { return thermal_; }
   void explicit_part(double t, const double* y, double* ydot) override {
@@ -108,7 +120,9 @@ class DemSystem final : public OdeSystem {
  private:
   struct LawFlags {
     double mu = 0, mu_roll = 0, beta = 0;
-    double kt_ratio = 0, ct_ratio = 0;  // k_t = kt_ratio k (Hertz: of 3/2 k), c_t = ct_ratio c
+    double kt_ratio = 0, ct_ratio = 0;  // k_t = kt_ratio k_n (Hertz: of 3/2 k delta^1/2), c_t = ct_ratio c
+    contact::RollingModel rolling_model = contact::RollingModel::constant;
+    double eta_roll = 0;  // epsd damping ratio
     bool hertz = false, tension = true, tangential = false, rolling = false;
     thermal::ConductionLaw conduction;  // from the first material to the second
     double heat_share = 0.5;            // share of frictional heat for the first material's body
@@ -125,7 +139,31 @@ class DemSystem final : public OdeSystem {
                       int p) const;
   void set_coefficients(ContactList& list, bool walls);
   void update_walls(double t);
-  double release(ContactList& list, int p, double dt_hist) const;
+  // Friction and rolling resistance of one touching contact.
+  struct PairMasses {
+    double m_eff = 0, inertia = 0, r_eff = 0;  // effective mass, rolling inertia I_r, R*
+  };
+  PairMasses pair_masses(int i, int j) const;  // j < 0: a wall
+  struct ContactState {
+    contact::ContactFrame frame;  // this state's
+    PairMasses masses;
+    double overlap = 0, approach_speed = 0;
+    double slip_speed = 0;     // of the contact points along t (m/s)
+    double relative_spin = 0;  // omega_i - omega_other (rad/s)
+  };
+  struct Friction {
+    double force = 0;      // tangential, along t, on i (N)
+    double torque = 0;     // rolling couple on i (N m)
+    double work_rate = 0;  // power of both on the relative motion (W): dissipated or stored
+  };
+  contact::TangentialLaw tangential_law(const LawFlags& lf, const contact::NormalLaw& nl, double overlap) const;
+  contact::RollingLaw rolling_law(const LawFlags& lf, const contact::NormalLaw& nl, double overlap,
+                                  const PairMasses& pm, double normal) const;
+  Friction friction(ContactList& list, int p, const LawFlags& lf, const contact::NormalLaw& nl, const ContactState& c,
+                    double normal) const;
+  static void forget(ContactList& list, int p);  // not touching: no history
+  // The contact frames of the touching contacts that have none, at the committed state (t, y).
+  void frame_new_contacts(double t, const double* y);
   double pair_conductance(const double* px, const double* py, int p) const;
   double wall_conductance(const double* px, const double* py, const std::vector<Vec2>& a, const std::vector<Vec2>& b,
                           int p, int& wall) const;
@@ -136,7 +174,6 @@ class DemSystem final : public OdeSystem {
   bool rotates_ = false;
   bool moving_walls_ = false;
   bool thermal_ = false;
-  bool has_tangential_ = false;
   bool events_ = false;  // contact events: the acting set is locked within a step
   double heat_power_factor_damping_ = 0, heat_power_factor_friction_ = 0;  // 1 when that dissipation heats
   std::vector<double> capacity_, inv_capacity_;
@@ -152,7 +189,6 @@ class DemSystem final : public OdeSystem {
   double t_ref_ = 0;
   bool built_ = false;
   long rebuilds_ = 0;
-  double t_committed_ = 0;
   double max_overlap_fraction_ = 0;
 
   std::vector<Vec2> seg_a_, seg_b_;  // wall geometry at the latest time asked for

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "contact/rolling_resistance.h"
 #include "integrators/integrator.h"
 #include "src/vec2.h"
 #include "thermal/conductance.h"
@@ -23,7 +24,7 @@ struct Material {
   double stiffness = 0;        // N/m, linear normal spring
   double restitution = 1;      // normal coefficient of restitution in (0, 1]
   double friction = 0;         // Coulomb coefficient
-  double rolling_friction = 0; // constant rolling resistance coefficient
+  double rolling_friction = 0; // rolling resistance coefficient mu_r
   double specific_heat = 0;          // J/(kg K)
   double conductivity = 0;           // W/(m K)
   double electrical_resistivity = 0; // Ohm m, shares frictional heat (0: not given)
@@ -41,6 +42,8 @@ struct PairLaw {
   double tangential_stiffness_ratio = 2.0 / 7.0;  // k_t / k_n
   double tangential_damping_ratio = 0.5;          // c_t / c_n
   double rolling_friction = 0;
+  contact::RollingModel rolling_model = contact::RollingModel::constant;
+  double rolling_damping_ratio = 0.3;  // epsd: eta_r
   // Heat conduction through the contact (thermal scenes).
   thermal::ConductionModel conduction = thermal::ConductionModel::lens;
   double conductance = 0;          // constant model: H (W/K)

@@ -72,6 +72,10 @@ PairLaw combined_law(const Material& a, const Material& b, NormalModel model) {
   return law;
 }
 
+contact::RollingModel read_rolling_model(const SceneNode& node) {
+  return node.choice({"constant", "epsd"}) == "epsd" ? contact::RollingModel::epsd : contact::RollingModel::constant;
+}
+
 NormalModel read_model(const SceneNode& node) {
   return node.choice({"linear", "hertz"}) == "hertz" ? NormalModel::hertz : NormalModel::linear;
 }
@@ -94,17 +98,20 @@ void read_contacts(const SceneNode& root, Scene& scene, const MaterialIndex& ind
   if (auto m = root.optional("contact_model")) model = read_model(*m);
   thermal::ConductionModel conduction = thermal::ConductionModel::lens;
   if (auto c = root.optional("conduction_model")) conduction = read_conduction(*c);
+  contact::RollingModel rolling = contact::RollingModel::constant;
+  if (auto r = root.optional("rolling_model")) rolling = read_rolling_model(*r);
   scene.laws.resize(nm * nm);
   law_location.assign(nm * nm, root.location());
   for (int a = 0; a < nm; ++a)
     for (int b = 0; b < nm; ++b) {
       scene.laws[a * nm + b] = combined_law(scene.materials[a], scene.materials[b], model);
       scene.laws[a * nm + b].conduction = conduction;
+      scene.laws[a * nm + b].rolling_model = rolling;
     }
   if (auto contacts = root.optional("contacts")) {
     for (const SceneNode& c : contacts->items()) {
       c.allow({"between", "model", "stiffness", "restitution", "damping_rate", "tension", "friction",
-               "rolling_friction", "tangential_stiffness_ratio", "tangential_damping_ratio", "conduction", "conductance",
+               "rolling_friction", "rolling_model", "rolling_damping_ratio", "tangential_stiffness_ratio", "tangential_damping_ratio", "conduction", "conductance",
                "softened_modulus_ratio", "contact_resistance"});
       const auto pair = c["between"].items();
       if (pair.size() != 2) c["between"].fail("expected two material names [a, b]");
@@ -119,6 +126,8 @@ void read_contacts(const SceneNode& root, Scene& scene, const MaterialIndex& ind
       if (auto v = c.optional("tension")) law.tension = v->boolean();
       if (auto v = c.optional("friction")) law.friction = v->non_negative();
       if (auto v = c.optional("rolling_friction")) law.rolling_friction = v->non_negative();
+      if (auto v = c.optional("rolling_model")) law.rolling_model = read_rolling_model(*v);
+      if (auto v = c.optional("rolling_damping_ratio")) law.rolling_damping_ratio = v->non_negative();
       if (auto v = c.optional("tangential_stiffness_ratio")) law.tangential_stiffness_ratio = v->positive();
       if (auto v = c.optional("tangential_damping_ratio")) law.tangential_damping_ratio = v->non_negative();
       if (auto v = c.optional("conduction")) law.conduction = read_conduction(*v);
@@ -446,7 +455,7 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   const auto overridden = std::make_shared<const std::set<std::string>>(apply_overrides(doc, overrides));
   const SceneNode root(doc, "", file, overridden);
   root.allow({"name", "description", "mass_model", "thickness", "gravity", "materials", "contact_model", "contacts",
-              "conduction_model", "heat_from_dissipation", "mechanics", "freeze", "particles", "walls", "integrator", "rtol", "atol", "contact_events", "dt",
+              "conduction_model", "rolling_model", "heat_from_dissipation", "mechanics", "freeze", "particles", "walls", "integrator", "rtol", "atol", "contact_events", "dt",
               "t_end", "output_interval", "skin", "allow_overlap", "checks", "stop", "report"});
   Scene scene;
   scene.file = file;

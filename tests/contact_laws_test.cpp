@@ -3,7 +3,9 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "contact/contact_frame.h"
 #include "contact/normal_force.h"
+#include "contact/rolling_resistance.h"
 #include "contact/tangential_force.h"
 
 using namespace kiln::contact;
@@ -47,34 +49,81 @@ TEST_CASE("restitution damping inverts exactly for Hertz and for clamped laws", 
   CHECK(restitution_damping(0.5, false, false) > restitution_damping(0.5, false, true));
 }
 
-TEST_CASE("contact durations: linear pi/omega_d, Hertz 2.87 (m^2/(k^2 v))^(1/5)", "[contact]") {
+TEST_CASE("contact durations: linear pi/omega_d, Hertz 3.218 (m^2/(k^2 v))^(1/5) for k = 4/3 E* sqrt(R*)", "[contact]") {
   const double m = 1e-3, k = 1e4;
   CHECK(linear_contact_duration(k, 0, m) == Approx(M_PI * std::sqrt(m / k)));
   CHECK(linear_contact_duration(k, 2 * std::sqrt(k * m), m) == INFINITY);  // critically damped
-  // Against a direct integration of the undamped Hertz collision in dimensionless units (t* = 3.2181).
-  CHECK(hertz_contact_duration(1, 1, 1) == Approx(2.868265699));
+  // The undamped Hertz collision m u'' = -k u^(3/2) in dimensionless units lasts
+  // 2 (5/4)^(2/5) int_0^1 du / sqrt(1 - u^(5/2)) = (4/5) (5/4)^(2/5) B(2/5, 1/2) = 3.21807.
+  CHECK(hertz_contact_duration(1, 1, 1) == Approx(0.8 * std::pow(1.25, 0.4) * std::tgamma(0.4) * std::tgamma(0.5) /
+                                                   std::tgamma(0.9)).epsilon(1e-5));
+  CHECK(hertz_contact_duration(1, 1, 1) == Approx(3.21807).epsilon(1e-5));
 }
 
 TEST_CASE("tangential spring sticks below mu Fn and slides at the Coulomb limit", "[contact]") {
   const TangentialLaw law{1000, 0.1, 0.5};
-  // Sticking: elongation grows by v dt, force -k s - c v, dissipation only in the dashpot.
-  auto stick = tangential_force(law, 1e-5, 0.01, 1e-4, 1e4, 10.0);
+  // Sticking: the trial elongation stands, force -k s - c v.
+  auto stick = tangential_force(law, 1.1e-5, 0.01, 10.0);
   CHECK_FALSE(stick.sliding);
-  CHECK(stick.spring == Approx(1e-5 + 1e-6));
+  CHECK(stick.spring == 1.1e-5);
   CHECK(stick.force == Approx(-1000 * 1.1e-5 - 0.1 * 0.01));
   // Sliding: force capped at mu Fn, the spring alone set to carry it.
-  auto slide = tangential_force(law, 1e-2, 0.5, 1e-4, 1e4, 1.0);
+  auto slide = tangential_force(law, 1e-2, 0.5, 1.0);
   CHECK(slide.sliding);
   CHECK(std::abs(slide.force) == Approx(0.5));
   CHECK(-law.k * slide.spring == Approx(slide.force));
-  // Slip power minus stored spring energy: the ledger's dissipation is never negative when sliding.
-  CHECK(slide.dissipation > 0);
   // A tensile normal force carries no friction.
-  CHECK(tangential_force(law, 1e-3, 0.1, 1e-4, 1e4, -2.0).force == 0.0);
+  CHECK(tangential_force(law, 1e-3, 0.1, -2.0).force == 0.0);
 }
 
-TEST_CASE("rolling resistance opposes the relative spin with mu_r R* Fn", "[contact]") {
-  CHECK(rolling_torque(0.1, 1e-3, 2.0, 5.0) == Approx(-2e-4));
-  CHECK(rolling_torque(0.1, 1e-3, 2.0, -5.0) == Approx(2e-4));
-  CHECK(rolling_torque(0.1, 1e-3, 2.0, 0.0) == 0.0);
+TEST_CASE("the contact points' relative displacement is exact on a flat wall and second order between discs",
+          "[contact]") {
+  // A disc of radius r on a fixed floor (normal (0,-1)): rolling by dtheta and moving by dx
+  // slips the contact points by dx . t + r dtheta, whatever happened in between.
+  const double r = 2e-3;
+  const ContactFrame a{0, -1, 0.3, -r, r, 0.1, 0};
+  ContactFrame b = a;
+  b.rho_t += 1e-3;  // t = perp(n) = (1, 0): moved 1 mm along +x
+  b.theta_i += 0.2;
+  CHECK(tangential_displacement(a, b) == Approx(1e-3 + r * 0.2));
+  // Two discs (radii 1 and 2 mm) whose contact line turns by dphi while the overlap changes: the
+  // exact slip is the integral of -d dphi + a_i dtheta_i + a_j dtheta_j along the path; the frame
+  // formula's trapezoid misses it by O(step^3).
+  auto slip = [](double steps) {
+    double sum = 0;
+    ContactFrame prev;
+    for (int k = 0; k <= steps; ++k) {
+      const double s = k / steps, phi = 0.3 * s, overlap = 1e-5 * std::sin(M_PI * s);
+      const double d = 3e-3 - overlap;
+      const ContactFrame now{std::cos(phi), std::sin(phi), 0, -d, pair_arm(1e-3, overlap), 2 * s, -s};
+      if (k > 0) sum += tangential_displacement(prev, now);
+      prev = now;
+    }
+    return sum;
+  };
+  const double fine = slip(4096);
+  const double e1 = std::abs(slip(8) - fine), e2 = std::abs(slip(16) - fine);
+  CHECK(std::log2(e1 / e2) == Approx(2.0).margin(0.1));
+  CHECK(relative_rotation(ContactFrame{0, 1, 0, 0, 1, 0.5, 0.2}, ContactFrame{0, 1, 0, 0, 1, 0.7, -0.1}) == Approx(0.5));
+}
+
+TEST_CASE("rolling resistance: the constant torque mu_r R* Fn while rolling, a spring at rest", "[contact]") {
+  const double mu_r = 0.1, k_n = 1e4, r_eff = 1e-3, inertia = 1e-9, m_eff = 1e-3, fn = 2.0;
+  for (RollingModel model : {RollingModel::constant, RollingModel::epsd}) {
+    const RollingLaw law = rolling_law(model, mu_r, k_n, r_eff, inertia, m_eff, 0.3, fn);
+    CHECK(law.limit == Approx(2e-4));
+    // Rolling: the torque is the cap against the spin, the spring carries it.
+    const auto rolling = rolling_torque(law, 0.0, 1e3);
+    CHECK(rolling.rolling);
+    CHECK(rolling.torque == Approx(-2e-4));
+    CHECK(-law.k * rolling.spring == Approx(rolling.torque));
+    // At rest: the spring holds whatever is below the cap.
+    const auto rest = rolling_torque(law, 0.5 * law.limit / law.k, 0.0);
+    CHECK_FALSE(rest.rolling);
+    CHECK(rest.torque == Approx(-0.5 * law.limit));
+  }
+  // epsd: k_r = 2.25 k_n mu_r^2 R*^2; constant: the rolling mode at a quarter of the normal one.
+  CHECK(rolling_law(RollingModel::epsd, mu_r, k_n, r_eff, inertia, m_eff, 0.3, fn).k == Approx(2.25 * k_n * 0.01 * 1e-6));
+  CHECK(std::sqrt(rolling_law(RollingModel::constant, mu_r, k_n, r_eff, inertia, m_eff, 0.3, fn).k / inertia) ==
+        Approx(0.25 * std::sqrt(k_n / m_eff)));
 }

@@ -53,12 +53,16 @@ inline double pipe_network_conductance(double ra, double ka, double rb, double k
   return thickness / (pipe_resistance(ka, ra, r_c) + r_b + contact_resistance);
 }
 
-// Share of frictional heat that goes to particle i (Nguyen et al. 2009, after Mokrani and
+// Share of frictional heat that goes to particle i (Nguyen et al. 2009, section 3.2, after Mokrani and
 // Bourouga 2005): beta = (rho_i/(rho_i + rho_j) + lambda_i/(lambda_i + lambda_j)) / 2, with rho the
-// electrical resistivities; 1/2 for one material. Without resistivities only conductivities count.
+// electrical resistivities and lambda the conductivities; 1/2 for one material. The formula is
+// the mean of two estimates of the share, one from each property. When the resistivities are not
+// both given, the electrical estimate is unknown and the thermal one stands alone:
+// beta = lambda_i / (lambda_i + lambda_j) (averaging it with an assumed 1/2 would invent a value).
 inline double heat_partition(double resistivity_i, double resistivity_j, double k_i, double k_j) {
-  const double electrical = (resistivity_i + resistivity_j) > 0 ? resistivity_i / (resistivity_i + resistivity_j) : 0.5;
-  return 0.5 * (electrical + k_i / (k_i + k_j));
+  const double thermal = k_i / (k_i + k_j);
+  if (resistivity_i > 0 && resistivity_j > 0) return 0.5 * (resistivity_i / (resistivity_i + resistivity_j) + thermal);
+  return thermal;
 }
 
 // One contact's conduction law with the constants of its two materials.

@@ -1,0 +1,74 @@
+// Rolling resistance: a torque against the relative rotation omega_r = omega_i - omega_o of the
+// two bodies at a contact, at most M_max = mu_r R* F_n (mu_r the rolling friction coefficient,
+// R* the effective radius, F_n >= 0 the normal force).
+//
+// Both models share one form, an elastic-plastic rolling spring with a dashpot (Ai, Chen, Rotter
+// and Ooi, "Assessment of rolling resistance models in discrete element simulations", Powder
+// Technology 206 (2011) 269-282, model C, the elastic-plastic spring-dashpot): M = -k_r psi - c_r omega_r, capped at
+// M_max; at the cap the spring alone carries M_max and the dashpot is off (as LIGGGHTS' epsd).
+// psi, the rolling spring's angle, is the relative rotation since the contact began, measured
+// from the frame of the last accepted step (contact/contact_frame.h), so it is a function of the
+// state and every stage of a multi-stage method sees its own.
+//  - epsd: k_r = 2.25 k_n mu_r^2 R*^2 (Ai et al.'s choice, also LIGGGHTS' epsd; k_n the
+//    linear(ised) normal stiffness), c_r = eta_r 2 sqrt(I_r k_r) with
+//    1/I_r = 1/(I_i + m_i r_i^2) + 1/(I_j + m_j r_j^2) (a wall adds nothing), eta_r the scene's
+//    rolling_damping_ratio (Ai et al. used 0.3, the default).
+//  - constant: Ai et al.'s model A (the constant directional torque, Lethe's "constant", LIGGGHTS'
+//    cdt): M = -M_max sign(omega_r) while the contact rolls. A bare sign function has no rest
+//    state: the relative spin parks at +-(M_max dt / I) and a disc below its rolling angle creeps
+//    at a speed proportional to dt. Here the rest state is held by a stiff spring, tuned so that
+//    the rolling mode rings at a quarter of the normal contact's frequency
+//    (k_r = I_r k_n / (16 m_eff)) and is critically damped (c_r = 2 sqrt(I_r k_r)): the rolling
+//    spring neither lowers the stable step nor rings, and while the contact rolls the torque is
+//    exactly the constant M_max.
+#pragma once
+#include <cmath>
+
+namespace kiln::contact {
+
+enum class RollingModel { constant, epsd };
+
+struct RollingLaw {
+  double k = 0;      // k_r (N m/rad)
+  double c = 0;      // c_r (N m s/rad)
+  double limit = 0;  // M_max = mu_r R* F_n (N m), >= 0
+};
+
+// k_r and c_r of a contact. `k_normal`: the linear(ised) normal stiffness (N/m); `r_eff`: R*;
+// `inertia_r`: I_r (kg m^2); `m_eff`: the effective mass (kg); `eta`: the epsd damping ratio.
+inline RollingLaw rolling_law(RollingModel model, double mu_r, double k_normal, double r_eff, double inertia_r,
+                              double m_eff, double eta, double normal) {
+  RollingLaw law;
+  law.limit = mu_r * r_eff * (normal > 0 ? normal : 0.0);
+  if (model == RollingModel::epsd) {
+    law.k = 2.25 * k_normal * mu_r * mu_r * r_eff * r_eff;
+    law.c = eta * 2 * std::sqrt(inertia_r * law.k);
+  } else {
+    law.k = inertia_r * k_normal / (16 * m_eff);
+    law.c = 2 * std::sqrt(inertia_r * law.k);
+  }
+  return law;
+}
+
+struct RollingResult {
+  double torque = 0;  // on particle i (the other body receives the opposite) (N m)
+  double spring = 0;  // rolling spring angle after the cap (rad)
+  bool rolling = false;  // at the cap: the contact rolls
+};
+
+// `angle`: the trial spring angle psi of this state (rad); `relative_spin`: omega_r (rad/s).
+inline RollingResult rolling_torque(const RollingLaw& law, double angle, double relative_spin) {
+  RollingResult r;
+  r.spring = angle;
+  r.torque = -law.k * angle - law.c * relative_spin;
+  if (std::abs(r.torque) > law.limit) {
+    r.torque = std::copysign(law.limit, r.torque);
+    r.spring = law.k > 0 ? -r.torque / law.k : 0.0;
+    r.rolling = true;
+  }
+  return r;
+}
+
+inline double rolling_elastic_energy(const RollingLaw& law, double angle) { return 0.5 * law.k * angle * angle; }
+
+}  // namespace kiln::contact
