@@ -60,7 +60,10 @@ void ArkodeIntegrator::start(OdeSystem& system, double t0, double* y, double dt)
   check(SUNContext_Create(nullptr, &context_), "SUNContext_Create");
   // The integrator works on the caller's state in place: no copy.
   state_ = N_VMake_Serial(n, y, context_);
-  const bool imex = !method_.dirk_table.empty();
+  // An IMEX pair on a system without a stiff part (a scene without temperatures) integrates
+  // f = f_E + 0: the additive method reduces to its explicit table, which is what runs.
+  implicit_ = !method_.dirk_table.empty() && system.has_implicit_part();
+  const bool imex = implicit_;
   system.prepare(t0, y, dt);
   memory_ = ARKStepCreate(explicit_rhs, imex ? implicit_rhs : nullptr, t0, state_, context_);
   if (!memory_) throw std::runtime_error("ARKODE: ARKStepCreate failed");
@@ -227,12 +230,12 @@ nlohmann::json ArkodeIntegrator::statistics() const {
   ARKStepGetNumErrTestFails(memory_, &fails);
   ARKStepGetNumRhsEvals(memory_, &fe, &fi);
   ARKStepGetLastStep(memory_, &last);
-  if (!method_.dirk_table.empty()) {
+  if (implicit_) {
     ARKStepGetNumNonlinSolvIters(memory_, &newton);
     ARKStepGetNumLinIters(memory_, &linear);
   }
   return {{"steps", steps},          {"attempts", attempts},       {"error_test_failures", fails},
-          {"rhs_evals_explicit", fe}, {"rhs_evals_implicit", fi},   {"rhs_evals_history", history_evals_},
+          {"implicit_part", implicit_}, {"rhs_evals_explicit", fe}, {"rhs_evals_implicit", fi},   {"rhs_evals_history", history_evals_},
           {"newton_iterations", newton}, {"linear_iterations", linear}, {"last_step", last},
           {"contact_events", events_located_}, {"neighbour_redos", neighbour_redos_}};
 }

@@ -54,6 +54,7 @@ class ArkodeIntegrator final : public Integrator {
   N_Vector state_ = nullptr;
   void* memory_ = nullptr;
   SUNLinearSolver linear_solver_ = nullptr;
+  bool implicit_ = false;  // an IMEX pair with a stiff part to solve (false: its explicit table alone)
   std::vector<double> scratch_;  // f at the end of a step, for contact history
   long history_evals_ = 0;
   std::vector<double> events_start_;  // event functions at the step's start

@@ -146,7 +146,9 @@ class DemSystem final : public OdeSystem {
   PairMasses pair_masses(int i, int j) const;  // j < 0: a wall
   struct ContactState {
     contact::ContactFrame frame;  // this state's
-    PairMasses masses;
+    double arm = 0, arm_then = 0; // i's lever arm now and in the committed frame (m)
+    double spun_i = 0, spun_other = 0;  // angles turned since the committed state (rad)
+    int i = 0, j = 0;             // the particles (j < 0: a wall)
     double overlap = 0, approach_speed = 0;
     double slip_speed = 0;     // of the contact points along t (m/s)
     double relative_spin = 0;  // omega_i - omega_other (rad/s)
@@ -189,6 +191,10 @@ class DemSystem final : public OdeSystem {
   double t_ref_ = 0;
   bool built_ = false;
   long rebuilds_ = 0;
+  // Angles at the last accepted step, and at the latest evaluation (kept when its step is
+  // accepted), with their times: what the contact springs' rotations are measured from.
+  std::vector<double> committed_angle_, trial_angle_;
+  double committed_time_ = 0, trial_time_ = 0;
   double max_overlap_fraction_ = 0;
 
   std::vector<Vec2> seg_a_, seg_b_;  // wall geometry at the latest time asked for

@@ -1,5 +1,8 @@
 // Exact solutions registered for standard cases, the references of `kiln order --reference
-// analytic`. Each gives the exact value at time t of a quantity the run reports.
+// analytic` and of the verification matrix (tests/verification_matrix.tsv). Each gives the exact
+// value at time t of a quantity the run reports: closed forms piece by piece for one disc on a
+// floor (T1, the harmonic contact; with Coulomb friction the 2/7 stick impact, the oblique impact
+// in gross sliding, slide to roll and C1 rolling), eigen-decompositions for frozen conduction.
 #pragma once
 #include <functional>
 #include <optional>
