@@ -10,6 +10,22 @@ namespace kiln {
 
 namespace {
 
+// The overlap of a linear spring-dashpot contact with a constant load:
+// d'' + 2 zeta w d' + w^2 d = w^2 eq (underdamped), from d(0) = d0 and d'(0) = rate0.
+struct DampedOscillator {
+  double eq, zeta, w, wd, a, b;
+  DampedOscillator(double eq_, double zeta_, double w_, double d0, double rate0)
+      : eq(eq_), zeta(zeta_), w(w_), wd(w_ * std::sqrt(1 - zeta_ * zeta_)), a(d0 - eq_),
+        b((rate0 + zeta_ * w_ * (d0 - eq_)) / wd) {}
+  double value(double tau) const {
+    return eq + std::exp(-zeta * w * tau) * (a * std::cos(wd * tau) + b * std::sin(wd * tau));
+  }
+  double rate(double tau) const {
+    return std::exp(-zeta * w * tau) *
+           ((-zeta * w * a + wd * b) * std::cos(wd * tau) + (-zeta * w * b - wd * a) * std::sin(wd * tau));
+  }
+};
+
 // One disc and a floor at y = 0 with the linear spring-dashpot and gravity (T1, the harmonic
 // contact): free flight and contact phases in closed form, one after the other.
 // Contact: overlap d = r - y obeys d'' + 2 zeta w d' + w^2 d = g, a damped oscillator about
@@ -36,15 +52,9 @@ std::pair<double, double> disc_on_floor(const Scene& s, double t_end) {
       y = r;
     }
     // Contact from overlap r - y with rate -v, until the overlap returns to zero, or the end.
-    const double eq = g / (w * w), a = (r - y) - eq, rate = -v;
-    const double b = (rate + zeta * w * a) / wd;
-    auto overlap = [&](double tau) {
-      return eq + std::exp(-zeta * w * tau) * (a * std::cos(wd * tau) + b * std::sin(wd * tau));
-    };
-    auto overlap_rate = [&](double tau) {
-      return std::exp(-zeta * w * tau) *
-             ((-zeta * w * a + wd * b) * std::cos(wd * tau) + (-zeta * w * b - wd * a) * std::sin(wd * tau));
-    };
+    const DampedOscillator contact(g / (w * w), zeta, w, r - y, -v);
+    auto overlap = [&](double tau) { return contact.value(tau); };
+    auto overlap_rate = [&](double tau) { return contact.rate(tau); };
     const double left = t_end - t, step = M_PI / wd / 64;
     double lo = 0, hi = 0;
     bool opens = false;
@@ -158,15 +168,9 @@ std::optional<FloorDiscState> friction_disc_on_floor(const Scene& s, double t_en
       delta = 0;
     }
     // Contact from overlap delta0 with rate delta_rate0: the normal motion in closed form.
-    const double eq = gn / (w * w), a = delta - eq, rate0 = -st.vy;
-    const double b = (rate0 + zeta * w * a) / wd;
-    auto overlap = [&](double tau) {
-      return eq + std::exp(-zeta * w * tau) * (a * std::cos(wd * tau) + b * std::sin(wd * tau));
-    };
-    auto overlap_rate = [&](double tau) {
-      return std::exp(-zeta * w * tau) *
-             ((-zeta * w * a + wd * b) * std::cos(wd * tau) + (-zeta * w * b - wd * a) * std::sin(wd * tau));
-    };
+    const DampedOscillator contact(gn / (w * w), zeta, w, delta, -st.vy);
+    auto overlap = [&](double tau) { return contact.value(tau); };
+    auto overlap_rate = [&](double tau) { return contact.rate(tau); };
     auto normal = [&](double tau) { return k * overlap(tau) + c * overlap_rate(tau); };
     const double release = first_negative(overlap, t_end - t);  // -1: lasts past the end
     const double contact_end = release < 0 ? t_end - t : release;
@@ -214,7 +218,7 @@ std::optional<FloorDiscState> friction_disc_on_floor(const Scene& s, double t_en
         const double d0 = overlap(tau0), r0 = overlap_rate(tau0), start = tau0;
         auto vx_slide = [&](double u) { return vx0 + gx * u - sigma * mu * (gn * u - (overlap_rate(start + u) - r0)); };
         auto slip_slide = [&](double u) { return s0 + gx * u + kappa * (vx_slide(u) - vx0 - gx * u); };
-        const double round_off = 1e-12 * k * (std::abs(eq) + std::abs(a) + std::abs(b));
+        const double round_off = 1e-12 * k * (std::abs(contact.eq) + std::abs(contact.a) + std::abs(contact.b));
         auto pressing = [&](double u) { return normal(start + u) + round_off; };
         if (first_negative(pressing, left) >= 0) return std::nullopt;  // tension while sliding
         // Sliding goes on while the stick law's trial force would pass the cap: with a tangential
