@@ -32,11 +32,16 @@ inline double normal_force(const NormalLaw& law, double overlap, double approach
   return (!law.tension && f < 0) ? 0.0 : f;
 }
 
+// What the normal force `force` carries beyond the conservative spring: the dashpot's part (N).
+inline double dashpot_force(const NormalLaw& law, double overlap, double force) {
+  const double spring = law.hertz ? law.k * overlap * std::sqrt(overlap) : law.k * overlap;
+  return force - spring;
+}
+
 // Power the normal force turns into heat: what it does beyond the conservative spring,
 // (F_n - k delta^p) d(delta)/dt. Equals c delta^q v^2 while the force is not clamped.
 inline double normal_dissipation(const NormalLaw& law, double overlap, double approach_speed, double force) {
-  const double spring = law.hertz ? law.k * overlap * std::sqrt(overlap) : law.k * overlap;
-  return (force - spring) * approach_speed;
+  return dashpot_force(law, overlap, force) * approach_speed;
 }
 
 // Elastic energy stored in the normal spring: k delta^2/2 (linear), 2/5 k delta^(5/2) (Hertz).

@@ -16,11 +16,10 @@
 //  - constant: Ai et al.'s model A (the constant directional torque, Lethe's "constant", LIGGGHTS'
 //    cdt): M = -M_max sign(omega_r) while the contact rolls. A bare sign function has no rest
 //    state: the relative spin parks at +-(M_max dt / I) and a disc below its rolling angle creeps
-//    at a speed proportional to dt. Here the rest state is held by a stiff spring, tuned so that
-//    the rolling mode rings at a quarter of the normal contact's frequency
-//    (k_r = I_r k_n / (16 m_eff)) and is critically damped (c_r = 2 sqrt(I_r k_r)): the rolling
-//    spring neither lowers the stable step nor rings, and while the contact rolls the torque is
-//    exactly the constant M_max.
+//    at a speed proportional to dt. Here the rest state is held by a stiff spring: alone on the
+//    bodies' relative rotation (inertia I_s = 1/(1/I_i + 1/I_j)) it would ring at a quarter of the
+//    normal contact's frequency (k_r = I_s k_n / (16 m_eff)), critically damped
+//    (c_r = 2 sqrt(I_s k_r)); while the contact rolls the torque is exactly the constant M_max.
 #pragma once
 #include <cmath>
 
@@ -35,17 +34,18 @@ struct RollingLaw {
 };
 
 // k_r and c_r of a contact. `k_normal`: the linear(ised) normal stiffness (N/m); `r_eff`: R*;
-// `inertia_r`: I_r (kg m^2); `m_eff`: the effective mass (kg); `eta`: the epsd damping ratio.
+// `inertia_r`: I_r (kg m^2); `spin_inertia`: the inertia of the bodies' relative rotation,
+// 1/(1/I_i + 1/I_j) (a wall: I_i); `m_eff`: the effective mass (kg); `eta`: the epsd damping ratio.
 inline RollingLaw rolling_law(RollingModel model, double mu_r, double k_normal, double r_eff, double inertia_r,
-                              double m_eff, double eta, double normal) {
+                              double spin_inertia, double m_eff, double eta, double normal) {
   RollingLaw law;
   law.limit = mu_r * r_eff * (normal > 0 ? normal : 0.0);
   if (model == RollingModel::epsd) {
     law.k = 2.25 * k_normal * mu_r * mu_r * r_eff * r_eff;
     law.c = eta * 2 * std::sqrt(inertia_r * law.k);
   } else {
-    law.k = inertia_r * k_normal / (16 * m_eff);
-    law.c = 2 * std::sqrt(inertia_r * law.k);
+    law.k = spin_inertia * k_normal / (16 * m_eff);
+    law.c = 2 * std::sqrt(spin_inertia * law.k);
   }
   return law;
 }

@@ -65,6 +65,14 @@ class OdeSystem {
   virtual void event_functions(double, const double*, double*) const {}
   virtual void lock_contacts(double, const double*, const int* /*flips*/) {}
 
+  // Work components: the first `count` components of z whose rates are works, of which the part
+  // linear in the velocities is g_c . v, g_c a generalized force (nq numbers, laid out as q) from
+  // the latest evaluation. A scheme whose force evaluations see an estimated velocity (the Verlet
+  // family) books that part as the trapezoid 1/2 (g_c,n + g_c,n+1) . (q_{n+1} - q_n) on its own
+  // displacement: the work then matches what the forces did to its trajectory, to second order.
+  // Returns count and points g at count x nq numbers (component after component).
+  virtual int work_components(const double** /*g*/) const { return 0; }
+
   // Absolute tolerances per component from the step control.
   virtual std::vector<double> absolute_tolerances(const StepControl& c) const {
     return std::vector<double>(layout().size(), c.atol);

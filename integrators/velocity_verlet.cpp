@@ -31,6 +31,10 @@ void VelocityVerlet::step() {
 
   for (int k = 0; k < nq; ++k) v[k] = v_half_[k] + 0.5 * h * a[k];  // II.27 with a = a_{n+1}
   for (int k = 0; k < nz; ++k) z[k] = z_old_[k] + 0.5 * h * (zrate_old_[k] + zrate[k]);
+  if (works_ > 0) {  // works: trapezoidal forces times the step's displacement h v_{n+1/2}
+    for (int k = 0; k < nq; ++k) v_half_[k] *= h;
+    book_work(z_old_.data(), v_half_.data(), 0.5 * h, 0.5 * h);
+  }
   advance_time();
   ++stats_.steps;
 }

@@ -10,6 +10,7 @@ void BasicVerlet::start(OdeSystem& system, double t0, double* y, double dt) {
   ahead_.assign(nq, 0);
   eval_.assign(layout_.size(), 0);
   zrate_.assign(nz, 0);
+  z_before_.assign(nz, 0);
   const double* a = accel();
   for (int k = 0; k < nq; ++k) ahead_[k] = y[k] + dt * y[nq + k] + 0.5 * dt * dt * a[k];  // II.20
   std::copy_n(zrate(), nz, zrate_.data());
@@ -24,11 +25,16 @@ void BasicVerlet::step() {
     eval_[k] = ahead_[k];
     eval_[nq + k] = (ahead_[k] - q[k]) / h;
   }
+  std::copy_n(z, nz, z_before_.data());
   for (int k = 0; k < nz; ++k) z[k] += h * zrate_[k];
   std::copy_n(z, nz, eval_.data() + 2 * nq);
   const double t_next = next_time();
   evaluate(t_next, eval_.data(), 0);
 
+  if (works_ > 0) {  // works: trapezoidal forces times the displacement x_{n+1} - x_n
+    for (int k = 0; k < nq; ++k) eval_[k] = ahead_[k] - q[k];
+    book_work(z_before_.data(), eval_.data(), h, 0.0);
+  }
   const double* a = accel();
   for (int k = 0; k < nq; ++k) {
     const double x_prev = q[k];

@@ -22,6 +22,7 @@ class BasicVerlet final : public VerletFamily {
   std::vector<double> ahead_;  // x_{n+1}
   std::vector<double> eval_;   // state at which the force is evaluated
   std::vector<double> zrate_;  // dz/dt at x_n
+  std::vector<double> z_before_;  // z at the step's start
 };
 
 }  // namespace kiln

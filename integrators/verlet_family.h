@@ -1,6 +1,7 @@
 // What the Verlet schemes share: one right-hand-side evaluation per step, at a state the scheme
 // builds, after which the step is accepted (no rejected trial states).
 #pragma once
+#include <algorithm>
 #include <vector>
 
 #include "integrators/integrator.h"
@@ -25,7 +26,15 @@ class VerletFamily : public Integrator {
     count_ = 0;
     dt_ = dt;
     rate_.assign(layout_.size(), 0);
+    const double* g = nullptr;
+    works_ = system.work_components(&g);
+    work_force_.assign(works_ * layout_.nq, 0.0);
+    work_force_old_ = work_force_;
+    work_rest_.assign(works_, 0.0);
+    work_rest_old_ = work_rest_;
     evaluate(t0, y, dt);
+    work_force_old_ = work_force_;
+    work_rest_old_ = work_rest_;
   }
   // rate_ = f(t, state) with the neighbour lists prepared for it; the step is then accepted.
   void evaluate(double t, const double* state, double lookahead) {
@@ -33,6 +42,29 @@ class VerletFamily : public Integrator {
     system_->derivative(t, state, rate_.data());
     system_->accept(t);
     ++stats_.rhs_evals;
+    if (works_ == 0) return;
+    const int nq = layout_.nq;
+    const double* g = nullptr;
+    system_->work_components(&g);
+    work_force_old_.swap(work_force_);
+    work_rest_old_.swap(work_rest_);
+    std::copy_n(g, works_ * nq, work_force_.data());
+    // What of each work rate is not g . v (e.g. moving walls' part): booked by the z rule.
+    for (int c = 0; c < works_; ++c) {
+      double linear = 0;
+      for (int k = 0; k < nq; ++k) linear += g[c * nq + k] * state[nq + k];
+      work_rest_[c] = rate_[2 * nq + c] - linear;
+    }
+  }
+  // Sets the work components of z at the step's end: `before` their values at its start, dq the
+  // step's displacement, rest_weight_old/new the z rule's weights (times dt) for the rest.
+  void book_work(const double* before, const double* dq, double rest_weight_old, double rest_weight_new) {
+    const int nq = layout_.nq;
+    for (int c = 0; c < works_; ++c) {
+      double w = 0;
+      for (int k = 0; k < nq; ++k) w += 0.5 * (work_force_old_[c * nq + k] + work_force_[c * nq + k]) * dq[k];
+      z()[c] = before[c] + w + rest_weight_old * work_rest_old_[c] + rest_weight_new * work_rest_[c];
+    }
   }
 
   // Views of the live state y = [q | v | z] and of the latest rates [v | a | dz/dt].
@@ -48,6 +80,11 @@ class VerletFamily : public Integrator {
   double t_ = 0, t0_ = 0, dt_ = 0;
   long count_ = 0;
   std::vector<double> rate_;  // f at the latest evaluation
+  // The system's work components of z, their generalized forces at the latest and the previous
+  // evaluation, and the rest of their rates there.
+  int works_ = 0;
+  std::vector<double> work_force_, work_force_old_;
+  std::vector<double> work_rest_, work_rest_old_;
 };
 
 }  // namespace kiln

@@ -251,11 +251,11 @@ void DemSystem::forget(ContactList& list, int p) {
 }
 
 DemSystem::PairMasses DemSystem::pair_masses(int i, int j) const {
-  if (j < 0) return {mass_[i], inertia_[i] + mass_[i] * radius_[i] * radius_[i], radius_[i]};
+  if (j < 0) return {mass_[i], inertia_[i] + mass_[i] * radius_[i] * radius_[i], radius_[i], inertia_[i]};
   const double ri = inertia_[i] + mass_[i] * radius_[i] * radius_[i];
   const double rj = inertia_[j] + mass_[j] * radius_[j] * radius_[j];
   return {mass_[i] * mass_[j] / (mass_[i] + mass_[j]), ri * rj / (ri + rj),
-          radius_[i] * radius_[j] / (radius_[i] + radius_[j])};
+          radius_[i] * radius_[j] / (radius_[i] + radius_[j]), inertia_[i] * inertia_[j] / (inertia_[i] + inertia_[j])};
 }
 
 contact::TangentialLaw DemSystem::tangential_law(const LawFlags& lf, const contact::NormalLaw& nl,
@@ -267,7 +267,7 @@ contact::TangentialLaw DemSystem::tangential_law(const LawFlags& lf, const conta
 contact::RollingLaw DemSystem::rolling_law(const LawFlags& lf, const contact::NormalLaw& nl, double overlap,
                                            const PairMasses& pm, double normal) const {
   return contact::rolling_law(lf.rolling_model, lf.mu_roll, linearised_stiffness(nl, overlap), pm.r_eff, pm.inertia,
-                              pm.m_eff, lf.eta_roll, normal);
+                              pm.spin_inertia, pm.m_eff, lf.eta_roll, normal);
 }
 
 // The tangential and rolling springs of one touching contact at this state: their trial values
@@ -323,6 +323,10 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
   std::fill_n(ydot + nq, nq, 0.0);
   if (moving_walls_) update_walls(t);
   const bool history = pp_.history;
+  // The damping and friction ledgers' generalized forces (work_components()).
+  work_force_.assign(2 * nq, 0.0);
+  double* gd = work_force_.data();
+  double* g = gd + nq;
   if (history) {
     std::copy_n(s.angle, n_, trial_angle_.data());
     trial_time_ = t;
@@ -388,6 +392,13 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
       fr = friction(pp_, p, lf, nl, c, fn);
       s.torque[i] += arm_i * fr.force + fr.torque;
       s.torque[j] += arm_j * fr.force - fr.torque;
+      // work_rate = -F_t ((v_i - v_j) . t + arm_i w_i + arm_j w_j) - M (w_i - w_j)
+      g[i] += fr.force * ny;
+      g[n_ + i] -= fr.force * nx;
+      g[j] -= fr.force * ny;
+      g[n_ + j] += fr.force * nx;
+      g[2 * n_ + i] -= arm_i * fr.force + fr.torque;
+      g[2 * n_ + j] -= arm_j * fr.force - fr.torque;
     } else if (history) {
       forget(pp_, p);
     }
@@ -397,6 +408,11 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
     s.fy[i] += fy;
     s.fx[j] -= fx;
     s.fy[j] -= fy;
+    const double dashpot = contact::dashpot_force(nl, overlap, fn);  // damping_power = dashpot vn
+    gd[i] += dashpot * nx;
+    gd[n_ + i] += dashpot * ny;
+    gd[j] -= dashpot * nx;
+    gd[n_ + j] -= dashpot * ny;
     damping += damping_power;
     friction_work += fr.work_rate;
     if (heat) make_heat(fr.work_rate, damping_power, i, j, lf.heat_share);
@@ -446,6 +462,10 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
       fr = friction(pw_, p, lf, nl, c, fn);
       s.torque[i] += r * fr.force + fr.torque;
       walls_work += fr.torque * wall_spin;
+      // work_rate = -F_t ((v_i - u) . t + r w_i) - M (w_i - wall spin): the u and spin parts are no g
+      g[i] += fr.force * n.y;
+      g[n_ + i] -= fr.force * n.x;
+      g[2 * n_ + i] -= r * fr.force + fr.torque;
     } else if (history) {
       forget(pw_, p);
     }
@@ -453,6 +473,9 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
     const double fy = -fn * n.y + fr.force * n.x;
     s.fx[i] += fx;
     s.fy[i] += fy;
+    const double dashpot = contact::dashpot_force(nl, overlap, fn);  // damping_power = dashpot (v_i - u) . n
+    gd[i] += dashpot * n.x;
+    gd[n_ + i] += dashpot * n.y;
     damping += damping_power;
     friction_work += fr.work_rate;
     walls_work += fx * u.x + fy * u.y;

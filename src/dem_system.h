@@ -74,6 +74,13 @@ class DemSystem final : public OdeSystem {
     evaluate(t, y, jv, Part::jacobian, v + temperature_at());
   }
   std::vector<double> absolute_tolerances(const StepControl& c) const override;
+  // The damping and friction ledgers are works: their velocity-linear parts are minus the
+  // dashpot forces, and minus the friction forces and rolling and friction torques, on the
+  // particles, times their velocities.
+  int work_components(const double** g) const override {
+    *g = work_force_.data();
+    return 2;  // ledger_damping, ledger_friction
+  }
   // Contact events: one function per candidate contact, its overlap (onset when it rises through 0).
   int event_count() const override { return events_ ? pp_.size() + pw_.size() : 0; }
   void event_functions(double t, const double* y, double* g) const override;
@@ -142,6 +149,7 @@ class DemSystem final : public OdeSystem {
   // Friction and rolling resistance of one touching contact.
   struct PairMasses {
     double m_eff = 0, inertia = 0, r_eff = 0;  // effective mass, rolling inertia I_r, R*
+    double spin_inertia = 0;                   // of the relative rotation, 1/(1/I_i + 1/I_j)
   };
   PairMasses pair_masses(int i, int j) const;  // j < 0: a wall
   struct ContactState {
@@ -195,6 +203,7 @@ class DemSystem final : public OdeSystem {
   // accepted), with their times: what the contact springs' rotations are measured from.
   std::vector<double> committed_angle_, trial_angle_;
   double committed_time_ = 0, trial_time_ = 0;
+  std::vector<double> work_force_;  // see work_components(), from the latest evaluation
   double max_overlap_fraction_ = 0;
 
   std::vector<Vec2> seg_a_, seg_b_;  // wall geometry at the latest time asked for

@@ -128,6 +128,8 @@ void read_contacts(const SceneNode& root, Scene& scene, const MaterialIndex& ind
       if (auto v = c.optional("rolling_friction")) law.rolling_friction = v->non_negative();
       if (auto v = c.optional("rolling_model")) law.rolling_model = read_rolling_model(*v);
       if (auto v = c.optional("rolling_damping_ratio")) law.rolling_damping_ratio = v->non_negative();
+      if (c.has("rolling_damping_ratio") && law.rolling_model != contact::RollingModel::epsd)
+        c["rolling_damping_ratio"].fail("applies to rolling_model: epsd only; this pair's rolling model is constant");
       if (auto v = c.optional("tangential_stiffness_ratio")) law.tangential_stiffness_ratio = v->positive();
       if (auto v = c.optional("tangential_damping_ratio")) law.tangential_damping_ratio = v->non_negative();
       if (auto v = c.optional("conduction")) law.conduction = read_conduction(*v);

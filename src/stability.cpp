@@ -14,7 +14,14 @@ namespace {
 
 // Highest speed an impact can have: the fastest initial particle, plus a free fall over the
 // scene's whole height along g, plus the fastest wall point.
-double impact_speed(const Scene& scene) {
+// The highest speeds at which a disc can meet a wall and another disc: its largest initial speed
+// plus a free fall over the scene's height, and a moving wall's speed; two discs can approach each
+// other at twice a disc's speed.
+struct ImpactSpeeds {
+  double wall = 0, pair = 0;
+};
+
+ImpactSpeeds impact_speeds(const Scene& scene) {
   const double g = norm(scene.gravity);
   const Vec2 down = g > 0 ? (1 / g) * scene.gravity : Vec2{0, -1};
   double lo = INFINITY, hi = -INFINITY, v0 = 0;
@@ -32,7 +39,8 @@ double impact_speed(const Scene& scene) {
     if (m.kind == WallMotion::Kind::rotate)
       wall_speed = std::max({wall_speed, std::abs(m.omega) * norm(s.a - m.centre), std::abs(m.omega) * norm(s.b - m.centre)});
   }
-  return v0 + std::sqrt(2 * g * std::max(0.0, hi - lo)) + wall_speed;
+  const double disc = v0 + std::sqrt(2 * g * std::max(0.0, hi - lo));
+  return {std::max(disc + wall_speed, 1e-3), std::max(2 * disc, 1e-3)};
 }
 
 void thermal_estimate(const Scene& scene, const std::vector<double>& rmin, const std::vector<int>& count,
@@ -75,7 +83,8 @@ void thermal_estimate(const Scene& scene, const std::vector<double>& rmin, const
 
 StabilityEstimate estimate_stability(const Scene& scene) {
   StabilityEstimate est;
-  est.impact_speed = std::max(impact_speed(scene), 1e-3);
+  const ImpactSpeeds speeds = impact_speeds(scene);
+  est.impact_speed = std::max(speeds.wall, speeds.pair);
   const int nm = scene.n_materials();
   // The smallest particle of each material gives the lightest pair.
   std::vector<double> rmin(nm, INFINITY);
@@ -89,14 +98,14 @@ StabilityEstimate estimate_stability(const Scene& scene) {
   // m_eff = m/2 (a disc between a wall and another disc alike). The measured boundaries of the T3
   // pile and the T6 drum lie 1.40 below the lone-pair limit (docs/studies.md).
   const bool packed = scene.n_particles() >= 2;
-  auto consider = [&](int a, int b, double m_eff, double r_eff, const std::string& label) {
+  auto consider = [&](int a, int b, double m_eff, double r_eff, double speed, const std::string& label) {
     const PairLaw& law = scene.law(a, b);
     const bool hertz = law.model == NormalModel::hertz;
     double duration, omega;
     if (hertz) {
       const double k = 4.0 / 3.0 * law.effective_modulus * std::sqrt(r_eff);
-      duration = contact::hertz_contact_duration(k, m_eff, est.impact_speed);
-      const double max_overlap = std::pow(1.25 * m_eff * est.impact_speed * est.impact_speed / k, 0.4);
+      duration = contact::hertz_contact_duration(k, m_eff, speed);
+      const double max_overlap = std::pow(1.25 * m_eff * speed * speed / k, 0.4);
       omega = std::sqrt(1.5 * k * std::sqrt(max_overlap) / m_eff);
     } else {
       const double beta = law.damping_rate > 0 ? law.damping_rate * std::sqrt(m_eff / law.stiffness)
@@ -121,10 +130,11 @@ StabilityEstimate estimate_stability(const Scene& scene) {
     for (int b = a; b < nm; ++b) {
       if (!count[b] || (a == b && count[a] < 2)) continue;
       const double mass_b = disc_mass(scene, rmin[b], scene.materials[b].density);
-      consider(a, b, mass_a * mass_b / (mass_a + mass_b), rmin[a] * rmin[b] / (rmin[a] + rmin[b]),
+      consider(a, b, mass_a * mass_b / (mass_a + mass_b), rmin[a] * rmin[b] / (rmin[a] + rmin[b]), speeds.pair,
                ma.name + "-" + scene.materials[b].name);
     }
-    for (const Wall& w : scene.walls) consider(a, w.material, mass_a, rmin[a], ma.name + "-wall(" + w.name + ")");
+    for (const Wall& w : scene.walls)
+      consider(a, w.material, mass_a, rmin[a], speeds.wall, ma.name + "-wall(" + w.name + ")");
     if (ma.youngs_modulus > 0) {
       const double shear = ma.youngs_modulus / (2 * (1 + ma.poisson_ratio));
       est.rayleigh = std::min(est.rayleigh, M_PI * rmin[a] * std::sqrt(ma.density / shear) /

@@ -15,7 +15,8 @@ struct StabilityEstimate {
   double dt_limit = INFINITY;          // central-difference stability limit of the stiffest contact (s),
                                        // divided by sqrt 2 when a disc can sit between two contacts
   double recommended_dt = INFINITY;    // contact_duration / 50
-  double impact_speed = 0;             // speed used for Hertz durations (m/s)
+  double impact_speed = 0;             // highest impact speed for Hertz durations (m/s): two discs meet at
+                                       // twice a disc's speed, a disc meets a wall at its own plus the wall's
   // Heat (thermal scenes): explicit stepping of conduction is stable below 2 / lambda_max, lambda_max
   // bounded by Gershgorin on C^-1 L. From the contact network at t = 0, and for a dense packing
   // (six neighbours at 1 % overlap) since contacts form later in dynamic scenes.

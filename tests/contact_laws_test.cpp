@@ -112,7 +112,7 @@ TEST_CASE("the contact points' relative displacement is exact on a flat wall and
 TEST_CASE("rolling resistance: the constant torque mu_r R* Fn while rolling, a spring at rest", "[contact]") {
   const double mu_r = 0.1, k_n = 1e4, r_eff = 1e-3, inertia = 1e-9, m_eff = 1e-3, fn = 2.0;
   for (RollingModel model : {RollingModel::constant, RollingModel::epsd}) {
-    const RollingLaw law = rolling_law(model, mu_r, k_n, r_eff, inertia, m_eff, 0.3, fn);
+    const RollingLaw law = rolling_law(model, mu_r, k_n, r_eff, inertia, inertia, m_eff, 0.3, fn);
     CHECK(law.limit == Approx(2e-4));
     // Rolling: the torque is the cap against the spin, the spring carries it.
     const auto rolling = rolling_torque(law, 0.0, 1e3);
@@ -125,7 +125,7 @@ TEST_CASE("rolling resistance: the constant torque mu_r R* Fn while rolling, a s
     CHECK(rest.torque == Approx(-0.5 * law.limit));
   }
   // epsd: k_r = 2.25 k_n mu_r^2 R*^2; constant: the rolling mode at a quarter of the normal one.
-  CHECK(rolling_law(RollingModel::epsd, mu_r, k_n, r_eff, inertia, m_eff, 0.3, fn).k == Approx(2.25 * k_n * 0.01 * 1e-6));
-  CHECK(std::sqrt(rolling_law(RollingModel::constant, mu_r, k_n, r_eff, inertia, m_eff, 0.3, fn).k / inertia) ==
+  CHECK(rolling_law(RollingModel::epsd, mu_r, k_n, r_eff, inertia, inertia, m_eff, 0.3, fn).k == Approx(2.25 * k_n * 0.01 * 1e-6));
+  CHECK(std::sqrt(rolling_law(RollingModel::constant, mu_r, k_n, r_eff, 2 * inertia, inertia, m_eff, 0.3, fn).k / inertia) ==
         Approx(0.25 * std::sqrt(k_n / m_eff)));
 }

@@ -130,3 +130,17 @@ TEST_CASE("an unknown integrator name lists the valid names, closest first", "[e
 TEST_CASE("malformed YAML names the line", "[errors]") {
   CHECK(error_of("name: x\nmaterials: {a: [1, 2}\n").find("bad.yaml:2") != std::string::npos);
 }
+
+TEST_CASE("a rolling model outside the choices, or a damping ratio the chosen model has no use for, is refused",
+          "[scene]") {
+  const std::string bad_model = error_of(replaced(good, "dt: 1.0e-6", "rolling_model: viscous\ndt: 1.0e-6"));
+  CHECK(bad_model.find("bad.yaml:10") != std::string::npos);
+  CHECK(bad_model.find("rolling_model") != std::string::npos);
+  CHECK(bad_model.find("constant") != std::string::npos);
+  CHECK(bad_model.find("epsd") != std::string::npos);
+  const std::string contacts = "contacts:\n  - {between: [copper, copper], rolling_friction: 0.1, rolling_damping_ratio: 0.3}\n";
+  const std::string unused = error_of(replaced(good, "particles:", contacts + "particles:"));
+  CHECK(unused.find("rolling_damping_ratio") != std::string::npos);
+  CHECK(unused.find("epsd only") != std::string::npos);
+  CHECK(error_of(replaced(good, "particles:", "rolling_model: epsd\n" + contacts + "particles:")).empty());
+}
