@@ -14,9 +14,9 @@ namespace {
 
 // Highest speed an impact can have: the fastest initial particle, plus a free fall over the
 // scene's whole height along g, plus the fastest wall point.
-// The highest speeds at which a disc can meet a wall and another disc: its largest initial speed
-// plus a free fall over the scene's height, and a moving wall's speed; two discs can approach each
-// other at twice a disc's speed.
+// The highest speeds at which a disc can meet a wall and another disc: a disc moves at most at its
+// largest initial speed plus a free fall over the scene's height plus a moving wall's speed (a
+// wall pushes it), and two discs can approach each other at twice that.
 struct ImpactSpeeds {
   double wall = 0, pair = 0;
 };
@@ -39,8 +39,8 @@ ImpactSpeeds impact_speeds(const Scene& scene) {
     if (m.kind == WallMotion::Kind::rotate)
       wall_speed = std::max({wall_speed, std::abs(m.omega) * norm(s.a - m.centre), std::abs(m.omega) * norm(s.b - m.centre)});
   }
-  const double disc = v0 + std::sqrt(2 * g * std::max(0.0, hi - lo));
-  return {std::max(disc + wall_speed, 1e-3), std::max(2 * disc, 1e-3)};
+  const double disc = v0 + std::sqrt(2 * g * std::max(0.0, hi - lo)) + wall_speed;
+  return {std::max(disc, 1e-3), std::max(2 * disc, 1e-3)};
 }
 
 void thermal_estimate(const Scene& scene, const std::vector<double>& rmin, const std::vector<int>& count,
