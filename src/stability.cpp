@@ -95,8 +95,8 @@ StabilityEstimate estimate_stability(const Scene& scene) {
   }
   // A disc pressed between two contacts (a chain, a pile) has a faster mode than a lone pair: the
   // zone-boundary mode of a chain of equal masses, omega = 2 sqrt(k/m) = sqrt(2) sqrt(k/m_eff) with
-  // m_eff = m/2 (a disc between a wall and another disc alike). The measured boundaries of the T3
-  // pile and the T6 drum lie 1.40 below the lone-pair limit (docs/studies.md).
+  // m_eff = m/2 (a disc between a wall and another disc alike): the safe bound. (The damped,
+  // frictional T3 pile and T6 drum hold to 1.6 times it, docs/studies.md.)
   const bool packed = scene.n_particles() >= 2;
   auto consider = [&](int a, int b, double m_eff, double r_eff, double speed, const std::string& label) {
     const PairLaw& law = scene.law(a, b);
