@@ -171,7 +171,9 @@ int main(int argc, char** argv) {
   order_cmd->add_option("--dt", order.dt, "the coarsest step (s)")->required()->check(CLI::PositiveNumber);
   order_cmd->add_option("--levels", order.levels, "number of step sizes")->check(CLI::Range(2, 30));
   order_cmd->add_option("--ratio", order.ratio, "dt_{k+1} = dt_k / ratio (default 2)");
-  order_cmd->add_option("--quantity", order.quantity, "position, velocity, temperature or a case quantity");
+  order_cmd->add_option("--quantity", order.quantity,
+                        "position, velocity, temperature or a case quantity (default: temperature on a frozen scene, "
+                        "else position)");
   order_cmd->add_option("--reference", order.reference, "analytic | richardson | fine");
   order_cmd->add_option("--fine-rtol", order.fine_rtol, "tolerance of the fine reference (default 1e-11)")
       ->check(CLI::PositiveNumber);
@@ -188,7 +190,9 @@ int main(int argc, char** argv) {
   wp_cmd->add_option("--integrators", wp.integrators, "comma-separated names")->required()->delimiter(',');
   wp_cmd->add_option("--dts", wp.dts, "fixed steps (s)")->delimiter(',');
   wp_cmd->add_option("--rtols", wp.rtols, "tolerances (adaptive)")->delimiter(',');
-  wp_cmd->add_option("--quantity", wp.quantity, "position, velocity, temperature or a case quantity");
+  wp_cmd->add_option("--quantity", wp.quantity,
+                     "position, velocity, temperature or a case quantity (default: temperature on a frozen scene, "
+                     "else position)");
   wp_cmd->add_option("--reference", wp.reference, "analytic | fine");
   wp_cmd->add_option("--fine-rtol", wp.fine_rtol, "tolerance of the fine reference (default 1e-11)")
       ->check(CLI::PositiveNumber);

@@ -14,7 +14,7 @@ struct OrderOptions {
   double dt = 0;        // the coarsest step
   int levels = 4;
   double ratio = 2;     // dt_{k+1} = dt_k / ratio
-  std::string quantity = "position";
+  std::string quantity;  // empty: default_quantity(scene)
   std::string reference = "analytic";  // analytic | richardson | fine
   double fine_rtol = 1e-11;             // tolerance of the "fine" reference run
   double t_end = 0;     // 0: the scene's

@@ -32,6 +32,8 @@ std::vector<std::string> study_quantities(const Scene& scene) {
   return q;
 }
 
+std::string default_quantity(const Scene& scene) { return scene.frozen ? "temperature" : "position"; }
+
 void check_quantity(const Scene& scene, const std::string& quantity) {
   const auto available = study_quantities(scene);
   if (std::find(available.begin(), available.end(), quantity) == available.end())

@@ -32,6 +32,9 @@ void run_study(const std::string& scene, const std::vector<std::string>& sets, d
 
 // Quantities a scene can be studied on: its state fields, then the scalars its report: adds.
 std::vector<std::string> study_quantities(const Scene& scene);
+// What a study compares when no quantity is given: the temperatures of a scene whose mechanics are
+// frozen (its positions never move), the positions otherwise.
+std::string default_quantity(const Scene& scene);
 // Fails with the available quantities, nearest first, unless `quantity` is one of them.
 void check_quantity(const Scene& scene, const std::string& quantity);
 

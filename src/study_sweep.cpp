@@ -65,6 +65,12 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
                      {"recommended_dt", est.recommended_dt},
                      {"contact_duration", est.contact_duration}};
   if (base.thermal) out["estimate"]["thermal_dt_limit"] = est.thermal_dt_limit;
+  // The limit that binds: conduction's alone on a frozen scene, the smaller of the two on a
+  // thermal scene that moves, the contacts' otherwise.
+  const bool conduction_binds = base.thermal && (base.frozen || est.thermal_dt_limit < est.dt_limit);
+  const double limit = conduction_binds ? est.thermal_dt_limit : est.dt_limit;
+  const char* limit_kind = conduction_binds ? "explicit conduction" : "contacts";
+  out["estimate"]["binding_limit"] = limit;
   std::ostringstream csv, table;
   csv << "dt,stable";
   for (const std::string& q : quantities) csv << "," << q;
@@ -111,10 +117,10 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
     std::printf("%s with %s to t = %g s (fields: difference from the smallest dt)\n\n%s\n", base.name.c_str(),
                 o.integrator.c_str(), t_end, table.str().c_str());
     if (stable > 0 && unstable > 0)
-      std::printf("stability boundary between %.5g and %.5g s; the estimate's limit is %.5g s (recommended %.3g s)\n",
-                  stable, unstable, est.dt_limit, est.recommended_dt);
+      std::printf("stability boundary between %.5g and %.5g s; the estimate's limit is %.5g s (%s; recommended %.3g s)\n",
+                  stable, unstable, limit, limit_kind, est.recommended_dt);
     else
-      std::printf("no stability boundary inside the sweep; the estimate's limit is %.5g s\n", est.dt_limit);
+      std::printf("no stability boundary inside the sweep; the estimate's limit is %.5g s (%s)\n", limit, limit_kind);
   }
   if (!o.out_dir.empty()) write_study(o.out_dir, "sweep", out, csv.str());
   return out;

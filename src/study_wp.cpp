@@ -34,6 +34,7 @@ std::pair<double, double> ensemble_mean(const std::vector<StudyRun>& runs, size_
 nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
   WorkPrecisionOptions o = o_in;
   const Scene base = load_scene(o.scene, o.sets);
+  if (o.quantity.empty()) o.quantity = default_quantity(base);
   check_quantity(base, o.quantity);
   if (o.dts.empty() == o.rtols.empty()) throw InputError("give either --dts or --rtols");
   const bool ensemble = o.seeds > 0;

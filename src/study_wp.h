@@ -13,7 +13,7 @@ struct WorkPrecisionOptions {
   std::vector<std::string> integrators;
   std::vector<double> dts;    // fixed steps, or
   std::vector<double> rtols;  // tolerances (adaptive; the first step is the scene's dt)
-  std::string quantity = "position";
+  std::string quantity;  // empty: default_quantity(scene)
   std::string reference = "analytic";  // analytic | fine | ensemble (set by seeds)
   // Chaotic scenes (piles, drums): a trajectory has no reference beyond its Lyapunov time, so a
   // scalar quantity is averaged over `seeds` initial fills (seed_key = 1..seeds) and compared with
