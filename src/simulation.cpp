@@ -238,6 +238,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
     summary["stability"]["thermal_dt_limit"] = est.thermal_dt_limit;
     summary["stability"]["thermal_relaxation_time"] = est.thermal_relaxation_time;
   }
+  summary["checks"] = guard.figures();
   summary["kiln_version"] = KILN_VERSION;
   for (auto& o : observers) o->report(t, y.data(), summary);
   if (options.final_fields) {

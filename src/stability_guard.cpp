@@ -65,6 +65,8 @@ void StabilityGuard::energy(double t, const EnergyLedger& now) const {
   }
 }
 
+nlohmann::json StabilityGuard::figures() const { return nlohmann::json::object(); }
+
 void StabilityGuard::fail(double t, const std::string& what) const {
   std::ostringstream s;
   s << "unstable run at t = " << t << " s: " << what << ". dt = " << dt_ << " s; ";

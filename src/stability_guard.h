@@ -1,6 +1,7 @@
 // The checks that stop an unstable run. A failure throws InstabilityError naming the check, the
 // time, the step and the step the stability estimate recommends.
 #pragma once
+#include <nlohmann/json.hpp>
 #include <string>
 
 #include "src/dem_system.h"
@@ -20,6 +21,8 @@ class StabilityGuard {
   // Energy blow-up: the ledger's error exceeds a quarter of all the energy that has changed form.
   void energy(double t, const EnergyLedger& now) const;
   const StabilityEstimate& estimate() const { return estimate_; }
+  // What the checks measured over the run, for summary.json's "checks".
+  nlohmann::json figures() const;
   // The stage now running: its step and whether only heat is integrated (for the message).
   void set_stage(double dt, bool heat_only) {
     dt_ = dt;
