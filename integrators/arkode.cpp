@@ -6,6 +6,8 @@
 #include <stdexcept>
 
 #include <arkode/arkode_butcher.h>
+#include <arkode/arkode_butcher_dirk.h>
+#include <arkode/arkode_butcher_erk.h>
 
 #include "src/error.h"
 
@@ -19,6 +21,27 @@ void check(int flag, const char* what) {
 
 ArkodeIntegrator* self_of(void* p) { return static_cast<ArkodeIntegrator*>(p); }
 
+// A Butcher table by its SUNDIALS name (without the ARKODE_ prefix), or one of the IMEX Euler pair
+// (ARS(1,1,1) [Ascher, Ruuth & Spiteri, Appl. Numer. Math. 25, 1997, sec. 2.1], written with two
+// stages on c = (0, 1)): forward Euler on the explicit part, backward Euler on the implicit part.
+// Backward Euler keeps the maximum principle of conduction at any step: (C + h L)^-1 C is
+// non-negative with rows summing to one, L being a Laplacian (an M-matrix argument).
+ARKodeButcherTable load_table(const std::string& name, bool implicit) {
+  ARKodeButcherTable table = nullptr;
+  if (name == imex_euler_table) {
+    double c[2] = {0, 1};  // SUNDIALS 6.4.1 takes non-const pointers; it copies them
+    double forward[4] = {0, 0, 1, 0}, backward[4] = {0, 0, 0, 1};
+    double b_forward[2] = {1, 0}, b_backward[2] = {0, 1};
+    table = ARKodeButcherTable_Create(2, 1, 0, c, implicit ? backward : forward, implicit ? b_backward : b_forward,
+                                      nullptr);
+  } else {
+    const std::string full = "ARKODE_" + name;
+    table = implicit ? ARKodeButcherTable_LoadDIRKByName(full.c_str()) : ARKodeButcherTable_LoadERKByName(full.c_str());
+  }
+  if (!table) throw std::runtime_error("ARKODE: no Butcher table '" + name + "'");
+  return table;
+}
+
 }  // namespace
 
 ArkodeIntegrator::ArkodeIntegrator(ArkodeMethod method, StepControl control)
@@ -26,7 +49,7 @@ ArkodeIntegrator::ArkodeIntegrator(ArkodeMethod method, StepControl control)
 
 ArkodeIntegrator::~ArkodeIntegrator() {
   if (memory_) ARKStepFree(&memory_);
-  if (linear_solver_) SUNLinSolFree(linear_solver_);
+  implicit_solver_.reset();
   if (state_) N_VDestroy(state_);
   if (context_) SUNContext_Free(&context_);
 }
@@ -42,11 +65,6 @@ int ArkodeIntegrator::explicit_rhs(double t, N_Vector y, N_Vector ydot, void* p)
 
 int ArkodeIntegrator::implicit_rhs(double t, N_Vector y, N_Vector ydot, void* p) {
   self_of(p)->system_->implicit_part(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
-  return 0;
-}
-
-int ArkodeIntegrator::jacobian_times(N_Vector v, N_Vector jv, double t, N_Vector y, N_Vector, void* p, N_Vector) {
-  self_of(p)->system_->implicit_jacobian_times(t, N_VGetArrayPointer(y), N_VGetArrayPointer(v), N_VGetArrayPointer(jv));
   return 0;
 }
 
@@ -68,9 +86,12 @@ void ArkodeIntegrator::start(OdeSystem& system, double t0, double* y, double dt)
   memory_ = ARKStepCreate(explicit_rhs, imex ? implicit_rhs : nullptr, t0, state_, context_);
   if (!memory_) throw std::runtime_error("ARKODE: ARKStepCreate failed");
   check(ARKStepSetUserData(memory_, this), "SetUserData");
-  const std::string erk = "ARKODE_" + method_.erk_table;
-  const std::string dirk = imex ? "ARKODE_" + method_.dirk_table : "ARKODE_DIRK_NONE";
-  check(ARKStepSetTableName(memory_, dirk.c_str(), erk.c_str()), "SetTableName");
+  ARKodeButcherTable explicit_table = load_table(method_.erk_table, false);
+  ARKodeButcherTable implicit_table = imex ? load_table(method_.dirk_table, true) : nullptr;
+  const int flag = ARKStepSetTables(memory_, explicit_table->q, explicit_table->p, implicit_table, explicit_table);
+  ARKodeButcherTable_Free(explicit_table);
+  ARKodeButcherTable_Free(implicit_table);
+  check(flag, "SetTables");
   // Tolerances: adaptive runs use the user's; fixed-step runs only stop the implicit iterations
   // with them, so they are tight there (the solver error must not hide the truncation error).
   const bool adaptive = control_.rtol > 0;
@@ -93,9 +114,8 @@ void ArkodeIntegrator::start(OdeSystem& system, double t0, double* y, double dt)
   }
   check(ARKStepSetMaxNumSteps(memory_, 0), "SetMaxNumSteps");
   if (imex) {
-    linear_solver_ = SUNLinSol_SPGMR(state_, SUN_PREC_NONE, 0, context_);
-    check(ARKStepSetLinearSolver(memory_, linear_solver_, nullptr), "SetLinearSolver");
-    check(ARKStepSetJacTimes(memory_, nullptr, jacobian_times), "SetJacTimes");
+    implicit_solver_ = std::make_unique<ImplicitSolver>(control_.linear_solver, system, state_, context_);
+    implicit_solver_->attach(memory_);
     check(ARKStepSetLinear(memory_, 1), "SetLinear");
   }
 }
@@ -107,8 +127,15 @@ void ArkodeIntegrator::set_stop_time(double t) {
 
 void ArkodeIntegrator::step() {
   // Neighbour lists are fixed for the whole step: prepare them for the step about to be taken.
+  // An adaptive step is first capped at what the lists allow at the current speeds.
+  const bool adaptive = control_.rtol > 0;
   double h = dt_;
-  if (control_.rtol > 0) ARKStepGetCurrentStep(memory_, &h);
+  if (adaptive) {
+    ARKStepGetCurrentStep(memory_, &h);
+    const double bound = system_->neighbour_step_bound(y_);
+    check(ARKStepSetMaxStep(memory_, std::isfinite(bound) ? bound : 0.0), "SetMaxStep");
+    h = std::min(h, bound);
+  }
   system_->prepare(t_, y_, h);
   const double t_start = t_;
   step_start_.assign(y_, y_ + scratch_.size());
@@ -117,12 +144,26 @@ void ArkodeIntegrator::step() {
     system_->event_functions(t_start, y_, events_start_.data());
   }
   evolve_one_step();
-  if (!system_->neighbours_cover(t_, y_)) {
-    // The step outran the neighbour lists: redo it from its start with lists rebuilt there (the
-    // lists then cover twice the distance the redone step can travel).
+  // A step that outran the lists (its stages may have missed a contact) is redone from its start:
+  // a fixed step with lists rebuilt there to cover where it went, an adaptive one halved until
+  // it stays inside them (accelerations, not speeds, carried it out).
+  for (int redo = 0; !system_->neighbours_cover(t_, y_); ++redo) {
+    const double taken = t_ - t_start;
+    if (redo == (adaptive ? 30 : 1))
+      throw InstabilityError("instability at t = " + std::to_string(t_start) + " s: " +
+                             system_->describe_travel(step_start_.data(), y_, taken) +
+                             (adaptive ? " even after halving the step " + std::to_string(redo) + " times"
+                                       : " even from lists rebuilt for the step") +
+                             "; lower dt (or rtol)");
+    step_reached_.assign(y_, y_ + scratch_.size());
     std::copy(step_start_.begin(), step_start_.end(), y_);
     t_ = t_start;
-    system_->rebuild_neighbours(t_start, y_);
+    if (adaptive) {
+      check(ARKStepSetMaxStep(memory_, 0.5 * taken), "SetMaxStep");
+      system_->rebuild_neighbours(t_start, y_, y_);
+    } else {
+      system_->rebuild_neighbours(t_start, y_, step_reached_.data());
+    }
     if (control_.contact_events) {
       events_start_.resize(system_->event_count());
       system_->event_functions(t_start, y_, events_start_.data());
@@ -131,11 +172,6 @@ void ArkodeIntegrator::step() {
     if (std::isfinite(stop_)) check(ARKStepSetStopTime(memory_, stop_), "SetStopTime");
     evolve_one_step();
     ++neighbour_redos_;
-    if (!system_->neighbours_cover(t_, y_))
-      throw InstabilityError("instability at t = " + std::to_string(t_start) + " s: a step of " +
-                             std::to_string(t_ - t_start) +
-                             " s moves particles farther than the neighbour skin even from rebuilt lists (velocities "
-                             "are running away); lower dt (or rtol)");
   }
   if (control_.contact_events && locate_event(t_start)) {
     // A contact started or ended inside the step: the state is now the step retaken from its
@@ -220,24 +256,31 @@ void ArkodeIntegrator::refresh_stats() {
   ARKStepGetNumRhsEvals(memory_, &fe, &fi);
   stats_.steps = steps;
   stats_.rhs_evals = fe + fi + history_evals_;
+  ARKStepGetLastStep(memory_, &stats_.last_step);
 }
 
 nlohmann::json ArkodeIntegrator::statistics() const {
-  long steps = 0, attempts = 0, fails = 0, fe = 0, fi = 0, newton = 0, linear = 0;
+  long steps = 0, attempts = 0, fails = 0, fe = 0, fi = 0, newton = 0;
   double last = 0;
   ARKStepGetNumSteps(memory_, &steps);
   ARKStepGetNumStepAttempts(memory_, &attempts);
   ARKStepGetNumErrTestFails(memory_, &fails);
   ARKStepGetNumRhsEvals(memory_, &fe, &fi);
   ARKStepGetLastStep(memory_, &last);
-  if (implicit_) {
-    ARKStepGetNumNonlinSolvIters(memory_, &newton);
-    ARKStepGetNumLinIters(memory_, &linear);
-  }
-  return {{"steps", steps},          {"attempts", attempts},       {"error_test_failures", fails},
-          {"implicit_part", implicit_}, {"rhs_evals_explicit", fe}, {"rhs_evals_implicit", fi},   {"rhs_evals_history", history_evals_},
-          {"newton_iterations", newton}, {"linear_iterations", linear}, {"last_step", last},
-          {"contact_events", events_located_}, {"neighbour_redos", neighbour_redos_}};
+  if (implicit_) ARKStepGetNumNonlinSolvIters(memory_, &newton);
+  nlohmann::json stats = {{"steps", steps},
+                          {"attempts", attempts},
+                          {"error_test_failures", fails},
+                          {"implicit_part", implicit_},
+                          {"rhs_evals_explicit", fe},
+                          {"rhs_evals_implicit", fi},
+                          {"rhs_evals_history", history_evals_},
+                          {"newton_iterations", newton},
+                          {"last_step", last},
+                          {"contact_events", events_located_},
+                          {"neighbour_redos", neighbour_redos_}};
+  if (implicit_solver_) stats.update(implicit_solver_->statistics());
+  return stats;
 }
 
 }  // namespace kiln

@@ -5,20 +5,23 @@
 // the last row of A differs from b (llnl/sundials#311, fixed in 6.7.0), which cuts the order of 9 of
 // the 15 tables (../shared/NUMERICS.md). IMEX pairs integrate the system's implicit part (heat
 // conduction, linear in the temperatures on a fixed candidate list) with one Newton iteration
-// (ARKStepSetLinear) and matrix-free GMRES (SPGMR) on the Jacobian-vector product the system
-// provides; everything else is explicit.
+// (ARKStepSetLinear) whose linear system ImplicitSolver solves (a sparse Cholesky by default);
+// everything else is explicit.
 #pragma once
 #include <arkode/arkode_arkstep.h>
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
-#include <sunlinsol/sunlinsol_spgmr.h>
-
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "integrators/implicit_solver.h"
 #include "integrators/integrator.h"
 
 namespace kiln {
+
+// The name standing for either table of the IMEX Euler pair (built in arkode.cpp).
+inline constexpr const char* imex_euler_table = "IMEX_EULER";
 
 struct ArkodeMethod {
   std::string erk_table;   // ARKODE name without the prefix, e.g. DORMAND_PRINCE_7_4_5
@@ -38,7 +41,6 @@ class ArkodeIntegrator final : public Integrator {
  private:
   static int explicit_rhs(double t, N_Vector y, N_Vector ydot, void* self);
   static int implicit_rhs(double t, N_Vector y, N_Vector ydot, void* self);
-  static int jacobian_times(N_Vector v, N_Vector jv, double t, N_Vector y, N_Vector fy, void* self, N_Vector tmp);
   void refresh_stats();
   void evolve_one_step();
   bool locate_event(double t_start);
@@ -53,7 +55,7 @@ class ArkodeIntegrator final : public Integrator {
   SUNContext context_ = nullptr;
   N_Vector state_ = nullptr;
   void* memory_ = nullptr;
-  SUNLinearSolver linear_solver_ = nullptr;
+  std::unique_ptr<ImplicitSolver> implicit_solver_;
   bool implicit_ = false;  // an IMEX pair with a stiff part to solve (false: its explicit table alone)
   std::vector<double> scratch_;  // f at the end of a step, for contact history
   long history_evals_ = 0;
@@ -61,6 +63,7 @@ class ArkodeIntegrator final : public Integrator {
   std::vector<double> events_now_;    // ... and at a trial end (kept: no allocation per step)
   std::vector<int> flips_;       // +1 onset, -1 release, per candidate contact, of a located event
   std::vector<double> step_start_;  // the state a step started from
+  std::vector<double> step_reached_;  // ... and where it went, when it outran the neighbour lists
   long events_located_ = 0;
   long neighbour_redos_ = 0;
 };

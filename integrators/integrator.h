@@ -14,6 +14,13 @@ namespace kiln {
 
 // Step-size control. rtol > 0 makes adaptive integrators adapt (starting from dt); fixed-step
 // implicit solves still use rtol/atol to stop their iterations, so they get tight defaults.
+// How the implicit stages' linear systems (I - gamma J) x = b are solved (IMEX pairs):
+//  - cholesky: exact, a sparse Cholesky (LDL^T) of the symmetric form W + gamma S of a diffusion
+//    Jacobian (DiffusionJacobian), refactored only when gamma or the network changes;
+//  - cg: conjugate gradients with a diagonal preconditioner on the same symmetric form;
+//  - gmres: SUNDIALS' matrix-free SPGMR on Jacobian-vector products (any implicit part).
+enum class LinearSolverKind { cholesky, cg, gmres };
+
 struct StepControl {
   double rtol = 0;
   double atol = 0;  // scalar absolute tolerance, for every field not given below
@@ -21,6 +28,22 @@ struct StepControl {
   // Discontinuity locking: which contacts act is frozen within a step; each onset and release
   // is located by root finding and the method restarts there (ARKODE integrators).
   bool contact_events = false;
+  LinearSolverKind linear_solver = LinearSolverKind::cholesky;
+};
+
+// The implicit part's Jacobian when it is a diffusion operator on one block of the state:
+//   J[block, block] = -W^-1 S   (W > 0 diagonal, S symmetric positive semidefinite, n x n),
+//   J[flux, block]  = flux_row  (one component that integrates a flux linear in the block),
+// every other entry zero. Conduction: W the heat capacities (J/K), S the conductance Laplacian with
+// the wall conductances on its diagonal (W/K), flux the heat from walls. Then
+// (I - gamma J) x = b is (W + gamma S) x_block = W b_block, symmetric positive definite.
+struct DiffusionJacobian {
+  int first = 0;               // the block is y[first, first + n)
+  std::vector<double> weight;  // W, n entries
+  std::vector<int> row, col;   // S's entries on and below its diagonal (block indices; repeats add)
+  std::vector<double> value;
+  int flux = -1;               // the flux component, or -1
+  std::vector<double> flux_row;  // n entries when flux >= 0
 };
 
 struct StateLayout {
@@ -40,9 +63,15 @@ class OdeSystem {
   // ydot = f(t, y). Must not change anything a later evaluation depends on.
   virtual void derivative(double t, const double* y, double* ydot) = 0;
   // Whether the neighbour lists built in prepare() still cover state y (multi-stage methods check
-  // after each step; a step that outran them is redone with lists rebuilt at its start).
+  // after each step; a step that outran them is redone: fixed steps with lists rebuilt at its start
+  // to cover the displacement to `reached`, adaptive ones shorter).
   virtual bool neighbours_cover(double, const double*) const { return true; }
-  virtual void rebuild_neighbours(double, const double*) {}
+  virtual void rebuild_neighbours(double /*t*/, const double* /*y*/, const double* /*reached*/) {}
+  // The longest step the neighbour lists allow from y at its velocities: adaptive steps are capped
+  // at it, so that no stage jumps over a contact the lists do not hold.
+  virtual double neighbour_step_bound(const double*) const { return INFINITY; }
+  // Why a step from `from` to `to` outran the lists: which particle, how far, how fast, the skin.
+  virtual std::string describe_travel(const double* /*from*/, const double* /*to*/, double /*h*/) const { return ""; }
   // The step ending at time t is accepted: contact history from its last evaluation is kept.
   virtual void accept(double t) = 0;
   // True when accept() keeps history that must come from an evaluation at the step's end.
@@ -57,6 +86,9 @@ class OdeSystem {
   virtual void implicit_jacobian_times(double, const double*, const double*, double* jv) {
     std::fill_n(jv, layout().size(), 0.0);
   }
+  // The implicit Jacobian as a diffusion operator (see DiffusionJacobian), at (t, y); false when
+  // the implicit part has no such form (then only the matrix-free solver applies).
+  virtual bool diffusion_jacobian(double /*t*/, const double* /*y*/, DiffusionJacobian& /*out*/) const { return false; }
   // Contact events. event_functions() has one function per candidate contact, positive while
   // it touches: a sign change is an onset or a release. Its count changes only in prepare().
   // lock_contacts() fixes the set of acting contacts; after a located event `flips` holds +1/-1
@@ -82,6 +114,7 @@ class OdeSystem {
 struct IntegratorStats {
   long steps = 0;
   long rhs_evals = 0;
+  double last_step = 0;  // the length of the latest step taken (s)
 };
 
 class Integrator {

@@ -63,7 +63,10 @@ std::vector<IntegratorInfo> build_catalogue() {
   }
   for (const Pair& p : imex_pairs)
     c.push_back({std::string("imex:") + p.name, p.order, p.order, p.embedding, true,
-                 "ARKODE IMEX pair: mechanics explicit, conduction implicit (SPGMR)"});
+                 "ARKODE IMEX pair: mechanics explicit, conduction implicit (linear_solver: cholesky)"});
+  c.push_back({"imex1", 1, 1, 0, true,
+               "IMEX Euler: backward Euler on conduction keeps the maximum principle at any step (heat on frozen "
+               "networks only)"});
   for (const auto& [alias, target] : aliases)
     for (const IntegratorInfo& info : std::vector<IntegratorInfo>(c))
       if (info.name == target) {
@@ -103,6 +106,7 @@ std::unique_ptr<Integrator> make_integrator(const std::string& typed, const Step
   if (name == "velocity-verlet") return std::make_unique<VelocityVerlet>(false);
   if (name == "velocity-verlet-predicted") return std::make_unique<VelocityVerlet>(true);
   if (name.rfind("erk:", 0) == 0) return std::make_unique<ArkodeIntegrator>(ArkodeMethod{name.substr(4), ""}, control);
+  if (name == "imex1") return std::make_unique<ArkodeIntegrator>(ArkodeMethod{imex_euler_table, imex_euler_table}, control);
   for (const Pair& p : imex_pairs)
     if (name == std::string("imex:") + p.name)
       return std::make_unique<ArkodeIntegrator>(ArkodeMethod{p.erk, p.dirk}, control);

@@ -23,6 +23,8 @@ class VelocityVerlet final : public VerletFamily {
   bool predicted_;
   std::vector<double> v_half_;
   std::vector<double> z_old_, zrate_old_;
+  bool slope_correction_ = false;  // z has a stiff linear part whose slope is moved to z_{n+1}
+  std::vector<double> dz_, jdz_;   // z_{n+1} - z* (laid out as the state) and J times it
 };
 
 }  // namespace kiln

@@ -18,8 +18,12 @@ void BasicVerlet::start(OdeSystem& system, double t0, double* y, double dt) {
 
 void BasicVerlet::step() {
   const int nq = layout_.nq, nz = layout_.nz;
-  const double h = dt_;
+  const double h = step_length();
   double *q = this->q(), *v = this->v(), *z = this->z();
+  if (h != dt_) {  // a shorter last step: x_{n+1} again from x_n, v_n and a_n (II.20)
+    const double* a = accel();
+    for (int k = 0; k < nq; ++k) ahead_[k] = q[k] + h * v[k] + 0.5 * h * h * a[k];
+  }
   // The force at x_{n+1}: positions known, velocity by backward difference, z by forward Euler.
   for (int k = 0; k < nq; ++k) {
     eval_[k] = ahead_[k];

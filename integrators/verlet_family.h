@@ -2,6 +2,7 @@
 // builds, after which the step is accepted (no rejected trial states).
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 #include "integrators/integrator.h"
@@ -11,11 +12,22 @@ namespace kiln {
 class VerletFamily : public Integrator {
  public:
   double time() const override { return t_; }
+  void set_stop_time(double t) override { stop_ = t; }
 
  protected:
-  // t_n = t_0 + n dt: no drift from summing dt.
-  double next_time() const { return t0_ + static_cast<double>(count_ + 1) * dt_; }
-  void advance_time() { t_ = t0_ + static_cast<double>(++count_) * dt_; }
+  // t_n = t_0 + n dt: no drift from summing dt. The step that would pass the stop time ends on it
+  // instead (a run's last step, when t_end is not a multiple of dt; within 1e-9 dt it is a whole
+  // step of dt that lands there).
+  bool lands_on_stop() const { return t0_ + static_cast<double>(count_ + 1) * dt_ > stop_ - 1e-9 * dt_; }
+  double next_time() const { return lands_on_stop() ? stop_ : t0_ + static_cast<double>(count_ + 1) * dt_; }
+  // The length of the step about to be taken: dt, or the shorter remainder to the stop time.
+  double step_length() const { return lands_on_stop() && stop_ - t_ < dt_ * (1 - 1e-9) ? stop_ - t_ : dt_; }
+  void advance_time() {
+    const double t_next = next_time();
+    stats_.last_step = step_length();
+    t_ = t_next;
+    ++count_;
+  }
 
   // Binds the system and the live state, and evaluates f(t0, y) into rate_.
   void bind(OdeSystem& system, double t0, double* y, double dt) {
@@ -78,6 +90,7 @@ class VerletFamily : public Integrator {
   StateLayout layout_;
   double* y_ = nullptr;
   double t_ = 0, t0_ = 0, dt_ = 0;
+  double stop_ = INFINITY;
   long count_ = 0;
   std::vector<double> rate_;  // f at the latest evaluation
   // The system's work components of z, their generalized forces at the latest and the previous

@@ -308,13 +308,15 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
   const int nq = layout_.nq;
   if (part == Part::implicit_only || part == Part::jacobian) {
     // IMEX: conduction alone is implicit (linear in the temperatures `temps`); the walls' heat
-    // sources enter the implicit part, not its Jacobian.
+    // sources enter the implicit part, not its Jacobian. The heat the walls deliver is linear in
+    // the temperatures too: its ledger rate has a Jacobian row, -sum H_w v_i, which a scheme
+    // that corrects its slopes with the Jacobian needs to keep the ledger closed.
     std::fill_n(ydot, layout_.size(), 0.0);
     if (moving_walls_) update_walls(t);
     double* heat = ydot + temperature_at();
     const double heat_walls = conduct(t, y, temps ? temps : y + temperature_at(), heat, part == Part::implicit_only);
     for (int i = 0; i < n_; ++i) heat[i] *= inv_capacity_[i];
-    if (part == Part::implicit_only) ydot[ledger_at() + ledger_heat_walls] = heat_walls;
+    ydot[ledger_at() + ledger_heat_walls] = heat_walls;
     return;
   }
   std::copy_n(y + nq, nq, ydot);  // dq/dt = v
@@ -563,7 +565,10 @@ EnergyLedger DemSystem::energy(double t, const double* y) const {
   for (int i = 0; i < n_; ++i) {
     e.kinetic += 0.5 * mass_[i] * (vx[i] * vx[i] + vy[i] * vy[i]);
     if (rotates_) e.kinetic += 0.5 * inertia_[i] * y[omega_at() + i] * y[omega_at() + i];
-    e.potential -= mass_[i] * (scene_.gravity.x * px[i] + scene_.gravity.y * py[i]);
+    // From the initial position (energy.h): x - x0 is exact while x is within a factor 2 of x0, so
+    // a scene far from the origin loses no digits to m g x.
+    e.potential -= mass_[i] * (scene_.gravity.x * (px[i] - scene_.position[i].x) +
+                               scene_.gravity.y * (py[i] - scene_.position[i].y));
   }
   std::vector<Vec2> a, b;
   wall_geometry(t, a, b);
@@ -603,7 +608,7 @@ EnergyLedger DemSystem::energy(double t, const double* y) const {
   e.work_by_walls = ledger[ledger_walls];
   if (thermal_) {
     held *= heat_power_factor_friction_;
-    for (int i = 0; i < n_; ++i) e.thermal += capacity_[i] * y[temperature_at() + i];
+    for (int i = 0; i < n_; ++i) e.thermal += capacity_[i] * (y[temperature_at() + i] - scene_.temperature[i]);
     e.thermal -= held;
     e.heat_from_walls = ledger[ledger_heat_walls];
     e.heat_from_dissipation = ledger[ledger_heat_generated] - held;

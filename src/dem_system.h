@@ -58,7 +58,7 @@ class DemSystem final : public OdeSystem {
   StateLayout layout() const override { return layout_; }
   void prepare(double t, const double* y, double lookahead) override;
   bool neighbours_cover(double t, const double* y) const override;
-  void rebuild_neighbours(double t, const double* y) override { rebuild(t, y); }
+  void rebuild_neighbours(double t, const double* y, const double*) override { rebuild(t, y); }
   void derivative(double t, const double* y, double* ydot) override { evaluate(t, y, ydot, Part::all, nullptr); }
   void accept(double t) override;
   bool has_history() const override { return pp_.history; }
@@ -109,6 +109,7 @@ class DemSystem final : public OdeSystem {
   double inertia(int i) const { return inertia_[i]; }
   double radius(int i) const { return radius_[i]; }
 
+  // The ledger at (t, y); potential and thermal energy from the scene's initial state (energy.h).
   EnergyLedger energy(double t, const double* y) const;
   struct ContactCount {
     long particle_particle = 0, particle_wall = 0;

@@ -1,10 +1,11 @@
 #include "src/exact_solutions.h"
 
-#include <Eigen/Dense>
 #include <cmath>
 
 #include "contact/normal_force.h"
 #include "src/dem_system.h"
+#include "src/simulation.h"
+#include "thermal/network_exact.h"
 
 namespace kiln {
 
@@ -250,12 +251,8 @@ std::optional<FloorDiscState> friction_disc_on_floor(const Scene& s, double t_en
   }
 }
 
-// A thermal scene with frozen mechanics is a linear network with constant conductances:
-//   C dT/dt = -K T + b,  K the Laplacian of the contact conductances plus the wall conductances on
-// its diagonal, b_i = sum_w H_iw T_w (isothermal walls at constant temperatures only).
-// With u = C^(1/2) T, u' = -A u + C^(-1/2) b and A = C^(-1/2) K C^(-1/2) = V diag(l) V^T symmetric,
-// each mode w_k = (V^T u)_k decays as w_k(t) = w_k(0) e^(-l_k t) + beta_k (1 - e^(-l_k t)) / l_k
-// (beta_k t for l_k = 0): exact up to the eigen-solver's round-off. This covers T4, F1, F2, N1.
+// A thermal scene with frozen mechanics is a linear network with constant conductances
+// (thermal/network_exact.h). This covers T4, F1, F2, N1, and the heating stage of N2 and T5.
 std::optional<std::vector<double>> frozen_network_temperatures(const Scene& s, double t) {
   std::vector<double> wall_temperature(s.walls.size(), 0.0);
   for (size_t w = 0; w < s.walls.size(); ++w) {
@@ -267,36 +264,27 @@ std::optional<std::vector<double>> frozen_network_temperatures(const Scene& s, d
   }
   DemSystem system(s);
   std::vector<double> y = system.initial_state();
-  system.prepare(0, y.data(), 0);
-  const int n = system.particles();
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(n, n);
-  Eigen::VectorXd b = Eigen::VectorXd::Zero(n), inv_sqrt_c(n), u(n);
-  for (const ConductanceLink& l : system.conduction_links(0, y.data())) {
-    K(l.i, l.i) += l.h;
-    if (l.j >= 0) {
-      K(l.j, l.j) += l.h;
-      K(l.i, l.j) -= l.h;
-      K(l.j, l.i) -= l.h;
-    } else {
-      b(l.i) += l.h * wall_temperature[-1 - l.j];
-    }
+  std::vector<double> start = s.temperature;
+  double frozen_at = 0;
+  if (!s.frozen) {
+    // A scene that freezes: the network is the settled one, reached by running the scene (with its
+    // own integrator) to its freeze, and heated from the temperatures it has there.
+    FinalFields settled;
+    RunOptions options;
+    options.quiet = true;
+    options.final_fields = &settled;
+    options.stop_at_freeze = true;
+    const nlohmann::json summary = run_scene(s, options);
+    if (!summary["frozen_at"].is_number() || summary["frozen_at"].get<double>() > t) return std::nullopt;
+    frozen_at = summary["frozen_at"].get<double>();
+    std::copy(settled.position.begin(), settled.position.end(), y.begin() + system.x_at());
+    start = settled.temperature;
   }
-  for (int i = 0; i < n; ++i) {
-    inv_sqrt_c(i) = 1 / std::sqrt(system.heat_capacity(i));
-    u(i) = s.temperature[i] / inv_sqrt_c(i);
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> eig(inv_sqrt_c.asDiagonal() * K * inv_sqrt_c.asDiagonal());
-  const Eigen::VectorXd w0 = eig.eigenvectors().transpose() * u;
-  const Eigen::VectorXd beta = eig.eigenvectors().transpose() * inv_sqrt_c.cwiseProduct(b);
-  const double scale = std::max(eig.eigenvalues().cwiseAbs().maxCoeff(), 1e-300);
-  Eigen::VectorXd w(n);
-  for (int k = 0; k < n; ++k) {
-    const double l = eig.eigenvalues()(k);
-    w(k) = std::abs(l) < 1e-12 * scale ? w0(k) + beta(k) * t
-                                       : w0(k) * std::exp(-l * t) - beta(k) * std::expm1(-l * t) / l;
-  }
-  const Eigen::VectorXd T = inv_sqrt_c.cwiseProduct(eig.eigenvectors() * w);
-  return std::vector<double>(T.data(), T.data() + n);
+  system.prepare(frozen_at, y.data(), 0);
+  std::vector<double> capacity;
+  for (int i = 0; i < system.particles(); ++i) capacity.push_back(system.heat_capacity(i));
+  return thermal::exact_network_temperatures(system.conduction_links(frozen_at, y.data()), capacity,
+                                             wall_temperature, start, t - frozen_at);
 }
 
 }  // namespace
@@ -314,7 +302,7 @@ std::optional<std::vector<double>> exact_quantity(const Scene& s, const std::str
       return q == "position" ? std::vector<double>{st->x, st->y} : std::vector<double>{st->vx, st->vy};
     return std::nullopt;
   }
-  if (s.thermal && s.frozen && q == "temperature") {
+  if (s.thermal && (s.frozen || s.freeze.enabled) && q == "temperature") {
     if (auto T = frozen_network_temperatures(s, t)) return T;
   }
   if (s.name == "c1_incline_roll_slide" && q == "incline_acceleration") {
@@ -331,7 +319,8 @@ std::optional<std::vector<double>> exact_quantity(const Scene& s, const std::str
 std::string exact_solutions_known() {
   return "position and velocity of t1_free_fall, t1_free_fall_damped, harmonic_contact_pair, stick_two_sevenths, "
          "oblique_sliding_impact, slide_to_roll and c1_incline_roll_slide (one disc, one flat floor); temperature of "
-         "every thermal scene with frozen mechanics and constant wall temperatures (t4, f1, f2, n1); "
+         "every thermal scene with frozen mechanics and constant wall temperatures (t4, f1, f2, n1), and of "
+         "the heating stage of a scene that freezes (n2, t5: from the state at its freeze); "
          "incline_acceleration of c1_incline_roll_slide";
 }
 

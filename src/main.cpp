@@ -66,6 +66,8 @@ CLI::App* add_study(CLI::App& app, const char* name, const char* summary, Option
   cmd->add_option("--threads", o.threads, "worker threads")->check(CLI::PositiveNumber);
   cmd->add_option("--set", o.sets, "override a scene value: KEY=VALUE")->take_all();
   cmd->add_flag("--quiet", o.quiet, "no table and no progress");
+  cmd->add_flag("--heat-stage", o.heat_stage,
+                "vary the frozen heating stage (freeze.integrator, freeze.dt); the settling keeps the scene's");
   return cmd;
 }
 
@@ -100,6 +102,25 @@ int check(const SceneArgs& a) {
   return verdict.unstable ? 1 : 0;
 }
 
+// "N steps of dt s" for each stage the run took, saying where a step differed from dt: adaptive
+// steps, and a last step shortened to end on t_end.
+std::string describe_steps(const nlohmann::json& stage, double dt, bool adaptive) {
+  const nlohmann::json& h = stage["step_size"];
+  const long n = h["steps"].get<long>();
+  char text[200];
+  if (n == 0) return "no steps";
+  if (adaptive) {
+    std::snprintf(text, sizeof text, "%ld adaptive steps (%.3g to %.3g s, mean %.3g s)", n, h["min"].get<double>(),
+                  h["max"].get<double>(), h["mean"].get<double>());
+  } else if (h["last"].get<double>() < dt * (1 - 1e-9)) {
+    std::snprintf(text, sizeof text, "%ld steps of %g s (the last %.3g s, to end on t_end)", n, dt,
+                  h["last"].get<double>());
+  } else {
+    std::snprintf(text, sizeof text, "%ld steps of %g s", n, dt);
+  }
+  return text;
+}
+
 int run(const SceneArgs& a, std::string out, bool quiet, bool force) {
   const kiln::Scene scene = load(a);
   const kiln::DtVerdict verdict = kiln::judge_dt(kiln::estimate_stability(scene), scene.dt, scene);
@@ -108,12 +129,18 @@ int run(const SceneArgs& a, std::string out, bool quiet, bool force) {
   if (verdict.unstable && !force) return 1;
   if (out.empty()) out = "out/" + scene.name;
   const nlohmann::json s = kiln::run_scene(scene, {out, quiet});
-  if (!quiet)
-    std::printf("%s: %ld steps of %g s with %s, %.3g s wall (%.3g particle-steps/s); energy balance error %.3g J; "
+  if (!quiet) {
+    const bool adaptive = scene.control.rtol > 0;
+    const nlohmann::json& stats = s["integrator_stats"];
+    std::string steps = describe_steps(stats, scene.dt, adaptive);
+    if (stats.contains("heat_stage"))
+      steps += ", then " + describe_steps(stats["heat_stage"], scene.freeze.dt, adaptive) + " of frozen heating";
+    std::printf("%s: %s with %s, %.3g s wall (%.3g particle-steps/s); energy balance error %.3g J; "
                 "outputs in %s/\n",
-                scene.name.c_str(), s["steps"].get<long>(), scene.dt, scene.integrator.c_str(),
+                scene.name.c_str(), steps.c_str(), scene.integrator.c_str(),
                 s["wall_seconds"].get<double>(), s["particle_steps_per_second"].get<double>(),
                 s["energy"]["balance_error"].get<double>(), out.c_str());
+  }
   return 0;
 }
 

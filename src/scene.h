@@ -88,6 +88,7 @@ struct FreezeStage {
   double latest = INFINITY;
   double dt = 0;
   double output_interval = 0;
+  std::string integrator;  // of the frozen stage; empty: the scene's
 };
 
 

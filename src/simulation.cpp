@@ -80,6 +80,32 @@ class OutputFiles {
   bool done_ = false;
 };
 
+// The steps a stage took: what summary.json reports as step_size (a fixed-step run shows dt,
+// and a shorter last step where t_end is not a multiple of dt).
+struct StepSizes {
+  long count = 0;
+  double min = INFINITY, max = 0, sum = 0, last = 0;
+  void add(double h) {
+    ++count;
+    min = std::min(min, h);
+    max = std::max(max, h);
+    sum += h;
+    last = h;
+  }
+  void merge(const StepSizes& o) {
+    if (o.count == 0) return;
+    count += o.count;
+    min = std::min(min, o.min);
+    max = std::max(max, o.max);
+    sum += o.sum;
+    last = o.last;
+  }
+  nlohmann::json json() const {
+    if (count == 0) return {{"steps", 0}};
+    return {{"steps", count}, {"min", min}, {"max", max}, {"mean", sum / count}, {"last", last}};
+  }
+};
+
 nlohmann::json ledger_json(const EnergyLedger& e, const EnergyLedger& initial, bool thermal) {
   nlohmann::json j = {{"kinetic", e.kinetic},
           {"potential", e.potential},
@@ -133,17 +159,22 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
 
   enum class Ended { at_end, at_rest, frozen };
   long total_steps = 0, total_rhs = 0;
+  StepSizes all_steps;
   // Steps one stage from t0 to t_end (steps of dt, or adaptive), with a frame every `interval`.
-  auto run_stage = [&](Integrator& stepper, double t0, double dt, double interval, bool mechanics, double& t) {
+  // Steps are never cut to land on frames: a frame is the state of the step that reaches its time
+  // (stamped with that step's time). Only the last step may be shorter, to end on t_end.
+  auto run_stage = [&](Integrator& stepper, double t0, double dt, double interval, bool mechanics, double& t,
+                       StepSizes& sizes) {
     const double tol = 1e-9 * dt;
     long k = 0, frames = 1;
     double next_frame = t0 + interval;
-    stepper.set_stop_time(std::min(next_frame, scene.t_end));
+    stepper.set_stop_time(scene.t_end);
     guard.set_stage(dt, !mechanics);
     while (t < scene.t_end - tol) {
       stepper.step();
       ++k;
       t = stepper.time();
+      sizes.add(stepper.stats().last_step);
       if (mechanics) guard.every_step(t);
       for (auto& o : observers) o->sample(t, y.data());
       const bool at_end = t >= scene.t_end - tol;
@@ -157,7 +188,6 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
         count_contacts(t);
         progress.update(t, scene.t_end);
         while (next_frame <= t + tol) next_frame = t0 + (++frames) * interval;  // no drift from summing
-        stepper.set_stop_time(std::min(next_frame, scene.t_end));
         if (mechanics && scene.stop_kinetic_energy > 0 && t >= scene.stop_not_before &&
             now.kinetic < scene.stop_kinetic_energy)
           return at_end ? Ended::at_end : Ended::at_rest;
@@ -173,36 +203,49 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   };
 
   double t = 0, frozen_at = NAN;
+  nlohmann::json frozen_network;  // the conduction network of the frozen stage
   Ended ended = Ended::frozen;
   nlohmann::json integrator_stats;
   if (!scene.frozen) {
-    ended = run_stage(*integrator, 0, scene.dt, scene.output_interval, true, t);
+    StepSizes sizes;
+    ended = run_stage(*integrator, 0, scene.dt, scene.output_interval, true, t, sizes);
     total_steps += integrator->stats().steps;
     total_rhs += integrator->stats().rhs_evals;
     integrator_stats = integrator->statistics();
+    integrator_stats["step_size"] = sizes.json();
+    all_steps.merge(sizes);
   }
-  if (ended == Ended::frozen) {
+  if (ended == Ended::frozen && options.stop_at_freeze) {
+    frozen_at = t;
+  } else if (ended == Ended::frozen) {
     // Freeze: the residual kinetic energy is removed (booked as dissipated), the conductances of
     // the contact network are fixed, and only the temperatures are integrated from here on.
     frozen_at = t;
     const EnergyLedger before = system.energy(t, y.data());
     for (int k = system.vx_at(); k < system.ledger_at(); ++k) y[k] = 0;
     y[system.ledger_at() + ledger_damping] += before.kinetic;
-    std::vector<thermal::WallTemperature> walls;
-    for (const Wall& w : scene.walls) walls.push_back(w.temperature);
-    std::vector<double> capacity;
-    for (int i = 0; i < system.particles(); ++i) capacity.push_back(system.heat_capacity(i));
-    thermal::FrozenConduction heat(system.conduction_links(t, y.data()), capacity, walls, system.ledger_count());
+    thermal::FrozenConduction heat = thermal::freeze_network(system, t, y.data());
+    // Explicit stepping of the frozen network is stable below 2 / lambda_max (Gershgorin bound).
+    frozen_network = {{"links", heat.links().size()}, {"explicit_dt_limit", 2 / heat.stiffest_rate()}};
     const double dt = scene.frozen ? scene.dt : scene.freeze.dt;
     const double interval = scene.frozen ? scene.output_interval
                             : scene.freeze.output_interval > 0 ? scene.freeze.output_interval
                                                                : (scene.t_end - t) / 100;
-    std::unique_ptr<Integrator> heat_stepper = make_integrator(scene.integrator, scene.control);
+    const std::string& heat_integrator =
+        scene.frozen || scene.freeze.integrator.empty() ? scene.integrator : scene.freeze.integrator;
+    std::unique_ptr<Integrator> heat_stepper = make_integrator(heat_integrator, scene.control);
+    const auto heat_start = std::chrono::steady_clock::now();
     heat_stepper->start(heat, t, y.data() + system.ledger_at(), dt);
-    if (t < scene.t_end) ended = run_stage(*heat_stepper, t, dt, interval, false, t);
+    StepSizes sizes;
+    if (t < scene.t_end) ended = run_stage(*heat_stepper, t, dt, interval, false, t, sizes);
     total_steps += heat_stepper->stats().steps;
     total_rhs += heat_stepper->stats().rhs_evals;
-    (scene.frozen ? integrator_stats : integrator_stats["heat_stage"]) = heat_stepper->statistics();
+    nlohmann::json& heat_stats = scene.frozen ? integrator_stats : integrator_stats["heat_stage"];
+    heat_stats = heat_stepper->statistics();
+    heat_stats["step_size"] = sizes.json();
+    heat_stats["rhs_evals"] = heat_stepper->stats().rhs_evals;
+    heat_stats["wall_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - heat_start).count();
+    all_steps.merge(sizes);
   }
   progress.finish();
   const EnergyLedger final_energy = system.energy(t, y.data());
@@ -215,7 +258,9 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   summary["t_end"] = t;
   summary["stopped_early"] = ended == Ended::at_rest;
   summary["frozen_at"] = std::isfinite(frozen_at) ? nlohmann::json(frozen_at) : nlohmann::json(nullptr);
+  if (!frozen_network.is_null()) summary["frozen_network"] = frozen_network;
   summary["steps"] = total_steps;
+  summary["step_size"] = all_steps.json();
   summary["rhs_evals"] = total_rhs;
   summary["integrator_stats"] = integrator_stats;
   summary["rtol"] = scene.control.rtol;

@@ -18,6 +18,7 @@ struct RunOptions {
   std::string out_dir;     // empty: write no files (tests and studies)
   bool quiet = false;
   FinalFields* final_fields = nullptr;  // filled at the end when given
+  bool stop_at_freeze = false;          // end where the mechanics freeze (the settled state)
 };
 
 // Runs the scene to its end (or its stop condition) and returns the summary (also written to

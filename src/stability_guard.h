@@ -1,5 +1,7 @@
 // The checks that stop an unstable run. A failure throws InstabilityError naming the check, the
-// time, the step and the step the stability estimate recommends.
+// time, the step and the step the stability estimate recommends. What the checks measured on the
+// way (how close the ledger came to the blow-up threshold, the largest bounded overshoot of the
+// maximum principle) is a figure of the run: figures(), summary.json's "checks".
 #pragma once
 #include <nlohmann/json.hpp>
 #include <string>
@@ -15,11 +17,15 @@ class StabilityGuard {
  public:
   StabilityGuard(const Scene& scene, const DemSystem& sys, const EnergyLedger& initial);
   // After every mechanical step: the largest overlap against checks.max_overlap_fraction.
-  void every_step(double t) const;
-  // A finite state, and temperatures within the maximum principle of conduction.
-  void finite(double t, const double* y, int size) const;
-  // Energy blow-up: the ledger's error exceeds a quarter of all the energy that has changed form.
-  void energy(double t, const EnergyLedger& now) const;
+  void every_step(double t);
+  // At frames and every 64 steps: a finite state; temperatures within the maximum principle of
+  // conduction (an excursion beyond the range by more than a tenth of its width that grows from
+  // one check to the next, or is there at the run's last check, stops the run; any other is a
+  // bounded overshoot, recorded); and the energy check on the state's ledger.
+  void finite(double t, const double* y, int size);
+  // Energy blow-up: the ledger has gained more than a quarter of the largest energy exchanged so
+  // far, beyond what rounding the positions to their ulp at every step can account for.
+  void energy(double t, const EnergyLedger& now);
   const StabilityEstimate& estimate() const { return estimate_; }
   // What the checks measured over the run, for summary.json's "checks".
   nlohmann::json figures() const;
@@ -35,9 +41,19 @@ class StabilityGuard {
   const DemSystem& sys_;
   EnergyLedger initial_;
   StabilityEstimate estimate_;
-  double low_ = 0, high_ = 0;
   double dt_ = 0;
   bool heat_only_ = false;
+  // Energy: the largest exchanged() seen, the worst |balance error| / that so far, and the
+  // potential energy of rounding every position once (J) times the mechanical steps taken.
+  double largest_exchange_ = 0;
+  double rounding_per_step_ = 0;
+  long steps_ = 0;
+  double worst_relative_error_ = 0, worst_error_time_ = 0;
+  // Maximum principle (checked when low_ < high_): the range of the initial and wall temperatures,
+  // the largest excursion beyond it so far, and the excursion at the previous check.
+  double low_ = 0, high_ = 0;
+  double overshoot_ = 0, overshoot_time_ = 0, previous_excursion_ = 0;
+  int overshoot_particle_ = -1;
 };
 
 }  // namespace kiln

@@ -32,7 +32,7 @@ int nominal_order(const std::string& name) {
 nlohmann::json run_order_study(const OrderOptions& o_in) {
   OrderOptions o = o_in;
   const Scene base = load_scene(o.scene, o.sets);
-  if (o.quantity.empty()) o.quantity = default_quantity(base);
+  if (o.quantity.empty()) o.quantity = default_quantity(base, o.heat_stage);
   const double t_end = o.t_end > 0 ? o.t_end : base.t_end;
   if (o.levels < (o.reference == "richardson" ? 3 : 2))
     throw InputError("--levels must be at least " + std::string(o.reference == "richardson" ? "3" : "2"));
@@ -48,12 +48,12 @@ nlohmann::json run_order_study(const OrderOptions& o_in) {
       o.reference == "richardson"
           ? std::vector<double>{}
           : study_reference(base, o.scene, o.sets, o.quantity, t_end, o.reference, o.dt / std::pow(o.ratio, o.levels),
-                            o.fine_rtol);
+                            o.fine_rtol, o.heat_stage);
 
   std::vector<StudyRun> jobs;
   for (const std::string& name : o.integrators)
     for (int level = 0; level < o.levels; ++level) jobs.emplace_back(name, o.dt / std::pow(o.ratio, level));
-  run_study(o.scene, o.sets, t_end, o.quantity, jobs, o.threads, o.quiet);
+  run_study(o.scene, o.sets, t_end, o.quantity, jobs, o.threads, o.quiet, o.heat_stage);
 
   nlohmann::json out = study_header(base, o.quantity, o.reference, t_end);
   out["ratio"] = o.ratio;

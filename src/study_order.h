@@ -20,6 +20,7 @@ struct OrderOptions {
   double t_end = 0;     // 0: the scene's
   std::string out_dir;  // order.json, order.csv, order.png
   int threads = 0;      // 0: every core
+  bool heat_stage = false;  // vary freeze.integrator and freeze.dt; the settling keeps the scene\'s
   bool quiet = false;
 };
 

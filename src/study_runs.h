@@ -27,14 +27,16 @@ struct StudyRun {
 
 // Runs scene (with `sets`) to t_end for every run, on `threads` workers (0: every core), showing
 // how many have finished on a terminal unless quiet.
+// With heat_stage the runs' integrators and steps are the frozen heating stage's (freeze.integrator,
+// freeze.dt): the scene settles the same way in every run.
 void run_study(const std::string& scene, const std::vector<std::string>& sets, double t_end, const std::string& quantity,
-               std::vector<StudyRun>& runs, int threads, bool quiet = true);
+               std::vector<StudyRun>& runs, int threads, bool quiet = true, bool heat_stage = false);
 
 // Quantities a scene can be studied on: its state fields, then the scalars its report: adds.
 std::vector<std::string> study_quantities(const Scene& scene);
 // What a study compares when no quantity is given: the temperatures of a scene whose mechanics are
-// frozen (its positions never move), the positions otherwise.
-std::string default_quantity(const Scene& scene);
+// frozen (its positions never move) or of a study of the heating stage, the positions otherwise.
+std::string default_quantity(const Scene& scene, bool heat_stage = false);
 // Fails with the available quantities, nearest first, unless `quantity` is one of them.
 void check_quantity(const Scene& scene, const std::string& quantity);
 
@@ -44,7 +46,7 @@ void check_quantity(const Scene& scene, const std::string& quantity);
 // registered solutions when there is none.
 std::vector<double> study_reference(const Scene& scene, const std::string& path, const std::vector<std::string>& sets,
                                     const std::string& quantity, double t_end, const std::string& kind, double fine_dt,
-                                    double fine_rtol);
+                                    double fine_rtol, bool heat_stage = false);
 
 // The fields every study's JSON opens with.
 nlohmann::json study_header(const Scene& scene, const std::string& quantity, const std::string& reference, double t_end);

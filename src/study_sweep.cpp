@@ -32,7 +32,7 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   for (const std::string& q : quantities) {
     std::vector<StudyRun> runs;
     for (double dt : dts) runs.emplace_back(o.integrator, dt);
-    run_study(o.scene, o.sets, t_end, q, runs, o.threads, o.quiet);
+    run_study(o.scene, o.sets, t_end, q, runs, o.threads, o.quiet, o.heat_stage);
     per_quantity.push_back(runs);
   }
 
@@ -47,7 +47,7 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   if (stable > 0 && unstable > stable) {
     for (int k = 0; k < o.bisections; ++k) {
       std::vector<StudyRun> probe = {StudyRun(o.integrator, std::sqrt(stable * unstable))};
-      run_study(o.scene, o.sets, t_end, quantities.front(), probe, 1);
+      run_study(o.scene, o.sets, t_end, quantities.front(), probe, 1, true, o.heat_stage);
       (probe[0].unstable ? unstable : stable) = probe[0].dt;
     }
   }
@@ -67,7 +67,7 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   if (base.thermal) out["estimate"]["thermal_dt_limit"] = est.thermal_dt_limit;
   // The limit that binds: conduction's alone on a frozen scene, the smaller of the two on a
   // thermal scene that moves, the contacts' otherwise.
-  const bool conduction_binds = base.thermal && (base.frozen || est.thermal_dt_limit < est.dt_limit);
+  const bool conduction_binds = base.thermal && (base.frozen || o.heat_stage || est.thermal_dt_limit < est.dt_limit);
   const double limit = conduction_binds ? est.thermal_dt_limit : est.dt_limit;
   const char* limit_kind = conduction_binds ? "explicit conduction" : "contacts";
   out["estimate"]["binding_limit"] = limit;

@@ -17,6 +17,7 @@ struct SweepOptions {
   int bisections = 10;                  // refinements of the stability boundary
   std::string out_dir;
   int threads = 0;
+  bool heat_stage = false;  // vary freeze.integrator and freeze.dt; the settling keeps the scene\'s
   bool quiet = false;
 };
 

@@ -34,7 +34,7 @@ std::pair<double, double> ensemble_mean(const std::vector<StudyRun>& runs, size_
 nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
   WorkPrecisionOptions o = o_in;
   const Scene base = load_scene(o.scene, o.sets);
-  if (o.quantity.empty()) o.quantity = default_quantity(base);
+  if (o.quantity.empty()) o.quantity = default_quantity(base, o.heat_stage);
   check_quantity(base, o.quantity);
   if (o.dts.empty() == o.rtols.empty()) throw InputError("give either --dts or --rtols");
   const bool ensemble = o.seeds > 0;
@@ -72,16 +72,16 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
     const double finest = *std::min_element(settings.begin(), settings.end()) / (adaptive ? 10 : 2);
     std::vector<StudyRun> ref;
     for (int m = 0; m < members; ++m) ref.push_back(make_run(o.integrators.front(), finest, m));
-    run_study(o.scene, o.sets, t_end, o.quantity, ref, o.threads, o.quiet);
+    run_study(o.scene, o.sets, t_end, o.quantity, ref, o.threads, o.quiet, o.heat_stage);
     for (const StudyRun& r : ref)
       if (!r.failure.empty()) throw std::runtime_error("an ensemble reference run failed: " + r.failure);
     const auto [mean, se] = ensemble_mean(ref, 0, members);
     reference = {mean};
     reference_se = se;
   } else {
-    reference = study_reference(base, o.scene, o.sets, o.quantity, t_end, o.reference, base.dt, o.fine_rtol);
+    reference = study_reference(base, o.scene, o.sets, o.quantity, t_end, o.reference, base.dt, o.fine_rtol, o.heat_stage);
   }
-  run_study(o.scene, o.sets, t_end, o.quantity, runs, o.threads, o.quiet);
+  run_study(o.scene, o.sets, t_end, o.quantity, runs, o.threads, o.quiet, o.heat_stage);
 
   nlohmann::json out = study_header(base, o.quantity, o.reference, t_end);
   out["setting"] = adaptive ? "rtol" : "dt";

@@ -26,6 +26,7 @@ struct WorkPrecisionOptions {
   int repeats = 3;  // timed runs after a warm-up; the minimum wall time is kept
   std::string out_dir;
   int threads = 1;  // timing: one run at a time unless asked otherwise
+  bool heat_stage = false;  // vary freeze.integrator and freeze.dt; the settling keeps the scene\'s
   bool quiet = false;
 };
 

@@ -112,7 +112,7 @@ TEST_CASE("a grazing frictional impact: friction dissipation converges to the ki
   // The disc loses 1.033e-5 J; the normal dashpot takes 3.675e-6 J, friction the rest, 6.65e-6 J
   // (before: 1.148e-5 J under erk2 at any dt, an 11.5 % balance error). Stick-slip transitions
   // are not located, so the last digits scatter with the step (0.1 %). The balance is measured
-  // against the mechanical energy, 4.19e-5 J (the scene's total also counts m c_p T).
+  // against the mechanical energy, 4.19e-5 J (the scene's initial total since heat counts from 20 C).
   // Heat equals beta times the ledger's dissipation: exactly under the Runge-Kutta tables, which
   // integrate both from the same rates; to their order under the Verlet schemes, which book the
   // ledger as force times displacement and the temperatures from the rates (measured: the

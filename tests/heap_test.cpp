@@ -41,6 +41,8 @@ TEST_CASE("T3: poured copper discs come to rest in a heap with a slope and rando
   // Random packing of polydisperse discs: between loose (0.72) and the hexagonal maximum (0.907).
   CHECK(s["packing_fraction"].get<double>() > 0.72);
   CHECK(s["packing_fraction"].get<double>() < 0.907);
-  // The ledger closes to the first-order error of velocity Verlet with dashpots (measured 0.6 %).
-  CHECK(std::abs(s["energy"]["balance_error"].get<double>()) < 0.02 * s["energy"]["initial_total"].get<double>());
+  // The ledger closes to the first-order error of velocity Verlet with dashpots, against the
+  // potential energy the pour released (the ledger's potential counts from the initial positions;
+  // measured 3.6e-5 of it).
+  CHECK(std::abs(s["energy"]["balance_error"].get<double>()) < 0.02 * -s["energy"]["potential"].get<double>());
 }

@@ -245,3 +245,17 @@ TEST_CASE("explicit conduction beyond its limit is refused up front and stopped 
     CHECK(msg.find("explicit conduction is stable below dt = 0.106") != std::string::npos);
   }
 }
+
+TEST_CASE("velocity Verlet's temperatures are stable to the conduction limit kiln check states, not half of it",
+          "[heat]") {
+  // The slope of each step was taken at the predictor, not the corrected temperatures: stable to
+  // 0.56 of 2 / lambda (T4 went unstable at dt = 0.06 s with the limit at 0.107 s).
+  const double limit = estimate_stability(load_scene(testing::case_path("t4_two_particle_conduction.yaml")))
+                           .thermal_dt_limit_network;
+  const auto stable = run_case("t4_two_particle_conduction.yaml",
+                               {"dt=" + std::to_string(0.9 * limit), "t_end=" + std::to_string(300 * limit)});
+  for (double temp : temps(stable)) CHECK(temp == Approx(50).margin(1e-6));
+  const Scene beyond = load_scene(testing::case_path("t4_two_particle_conduction.yaml"),
+                                  {"dt=" + std::to_string(1.1 * limit), "t_end=" + std::to_string(300 * limit)});
+  CHECK_THROWS_AS(run_scene(beyond, {"", true}), InstabilityError);
+}

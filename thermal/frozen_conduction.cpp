@@ -27,7 +27,44 @@ void FrozenConduction::conduct(double t, const double* temp, double* zdot, bool 
     }
   }
   for (int i = 0; i < n; ++i) heat[i] *= inv_capacity_[i];
-  zdot[ledger_heat_walls] = walls ? from_walls : 0.0;
+  // Without the walls' temperatures this is the Jacobian's row of the heat from walls: -sum h T_i.
+  zdot[ledger_heat_walls] = from_walls;
+}
+
+bool FrozenConduction::diffusion_jacobian(double, const double*, DiffusionJacobian& out) const {
+  const int n = static_cast<int>(inv_capacity_.size());
+  out.first = ledger_;
+  out.weight.resize(n);
+  for (int i = 0; i < n; ++i) out.weight[i] = 1 / inv_capacity_[i];
+  out.row.clear();
+  out.col.clear();
+  out.value.clear();
+  out.flux = ledger_heat_walls;
+  out.flux_row.assign(n, 0.0);
+  for (const ConductanceLink& link : links_) {
+    out.row.push_back(link.i);
+    out.col.push_back(link.i);
+    out.value.push_back(link.h);
+    if (link.j >= 0) {
+      out.row.push_back(link.j);
+      out.col.push_back(link.j);
+      out.value.push_back(link.h);
+      out.row.push_back(std::max(link.i, link.j));
+      out.col.push_back(std::min(link.i, link.j));
+      out.value.push_back(-link.h);
+    } else {
+      out.flux_row[link.i] -= link.h;
+    }
+  }
+  return true;
+}
+
+FrozenConduction freeze_network(const DemSystem& system, double t, const double* y) {
+  std::vector<WallTemperature> walls;
+  for (const Wall& w : system.scene().walls) walls.push_back(w.temperature);
+  std::vector<double> capacity;
+  for (int i = 0; i < system.particles(); ++i) capacity.push_back(system.heat_capacity(i));
+  return FrozenConduction(system.conduction_links(t, y), capacity, walls, system.ledger_count());
 }
 
 double FrozenConduction::stiffest_rate() const {

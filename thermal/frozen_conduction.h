@@ -31,6 +31,7 @@ class FrozenConduction final : public OdeSystem {
   void implicit_jacobian_times(double t, const double*, const double* v, double* jv) override {
     conduct(t, v + ledger_, jv, false);
   }
+  bool diffusion_jacobian(double t, const double* z, DiffusionJacobian& out) const override;
   std::vector<double> absolute_tolerances(const StepControl& c) const override {
     std::vector<double> atol(layout().size(), c.atol);
     if (std::isfinite(c.atol_temperature)) std::fill(atol.begin() + ledger_, atol.end(), c.atol_temperature);
@@ -49,5 +50,8 @@ class FrozenConduction final : public OdeSystem {
   std::vector<WallTemperature> walls_;
   int ledger_;
 };
+
+// The network of `system` at (t, y) frozen: its conductances, heat capacities and walls.
+FrozenConduction freeze_network(const DemSystem& system, double t, const double* y);
 
 }  // namespace kiln::thermal
