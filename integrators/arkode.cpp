@@ -160,9 +160,9 @@ void ArkodeIntegrator::step() {
     t_ = t_start;
     if (adaptive) {
       check(ARKStepSetMaxStep(memory_, 0.5 * taken), "SetMaxStep");
-      system_->rebuild_neighbours(t_start, y_, y_);
+      system_->rebuild_neighbours(t_start, y_, t_start, y_);
     } else {
-      system_->rebuild_neighbours(t_start, y_, step_reached_.data());
+      system_->rebuild_neighbours(t_start, y_, t_start + taken, step_reached_.data());
     }
     if (control_.contact_events) {
       events_start_.resize(system_->event_count());

@@ -66,7 +66,7 @@ class OdeSystem {
   // after each step; a step that outran them is redone: fixed steps with lists rebuilt at its start
   // to cover the displacement to `reached`, adaptive ones shorter).
   virtual bool neighbours_cover(double, const double*) const { return true; }
-  virtual void rebuild_neighbours(double /*t*/, const double* /*y*/, const double* /*reached*/) {}
+  virtual void rebuild_neighbours(double /*t*/, const double* /*y*/, double /*t_reached*/, const double* /*reached*/) {}
   // The longest step the neighbour lists allow from y at its velocities: adaptive steps are capped
   // at it, so that no stage jumps over a contact the lists do not hold.
   virtual double neighbour_step_bound(const double*) const { return INFINITY; }

@@ -27,6 +27,9 @@ class Broadphase {
  public:
   explicit Broadphase(double skin) : skin_(skin), scale_(1.0 / skin) {}
   double skin() const { return skin_; }
+  // A wider skin for the next queries (a step longer than the base skin covers); the tree keeps
+  // its units, so Box2D's padding stays a tenth of the base skin.
+  void set_skin(double skin) { skin_ = skin; }
 
   // Particle pairs with |x_i - x_j| < r_i + r_j + skin, sorted by (i, j).
   void particle_pairs(const double* x, const double* y, const double* r, int n, std::vector<CandidatePair>& out);

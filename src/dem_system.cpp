@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include "contact/normal_force.h"
 #include "contact/tangential_force.h"
@@ -29,7 +30,10 @@ double automatic_skin(const Scene& scene) {
 }  // namespace
 
 DemSystem::DemSystem(const Scene& scene)
-    : scene_(scene), n_(scene.n_particles()), broadphase_(scene.skin > 0 ? scene.skin : automatic_skin(scene)) {
+    : scene_(scene),
+      n_(scene.n_particles()),
+      base_skin_(scene.skin > 0 ? scene.skin : automatic_skin(scene)),
+      broadphase_(base_skin_) {
   const int nm = scene.n_materials();
   flags_.resize(nm * nm);
   for (int a = 0; a < nm; ++a)
@@ -124,7 +128,53 @@ void DemSystem::update_walls(double t) {
 }
 
 void DemSystem::prepare(double t, const double* y, double lookahead) {
-  if (!built_ || !covers(t, y, lookahead)) rebuild(t, y);
+  // A step that carries particles further than the base skin allows gets a wider skin for its
+  // lists: covers() wants 2 (2 lookahead v) < skin; half as much again for the accelerations.
+  if (!built_ || !covers(t, y, lookahead)) rebuild(t, y, 6 * lookahead * fastest_speed(y));
+}
+
+double DemSystem::fastest_speed(const double* y) const {
+  double v2max = 0;
+  for (int i = 0; i < n_; ++i) v2max = std::max(v2max, y[vx_at() + i] * y[vx_at() + i] + y[vy_at() + i] * y[vy_at() + i]);
+  return std::sqrt(v2max);
+}
+
+// Lists at the step's start that cover where the step went: the skin three times the longest
+// displacement, so that the check (twice the displacement below the skin) holds with a margin.
+void DemSystem::rebuild_neighbours(double t, const double* y, double t_reached, const double* reached) {
+  double travel = 0;
+  for (int i = 0; i < n_; ++i)
+    travel = std::max(travel, std::hypot(reached[x_at() + i] - y[x_at() + i], reached[y_at() + i] - y[y_at() + i]));
+  double wall_travel = 0;
+  for (size_t w = 0; w < scene_.walls.size(); ++w)
+    wall_travel = std::max(wall_travel, wall_max_displacement(scene_.walls[w].motion, scene_.segments,
+                                                              static_cast<int>(w), t, t_reached));
+  rebuild(t, y, std::max(3 * travel, 1.5 * (travel + wall_travel)));
+}
+
+// At its current speeds no particle moves more than an eighth of the base skin in the step, so
+// that prepare() keeps the base skin and no stage can pass a contact the lists do not hold.
+double DemSystem::neighbour_step_bound(const double* y) const {
+  const double v = fastest_speed(y);
+  return v > 0 ? base_skin_ / (8 * v) : INFINITY;
+}
+
+std::string DemSystem::describe_travel(const double* from, const double* to, double h) const {
+  int worst = 0;
+  double travel = -1;
+  for (int i = 0; i < n_; ++i) {
+    const double d = std::hypot(to[x_at() + i] - from[x_at() + i], to[y_at() + i] - from[y_at() + i]);
+    if (d > travel) {
+      travel = d;
+      worst = i;
+    }
+  }
+  const double speed = std::hypot(from[vx_at() + worst], from[vy_at() + worst]);
+  std::ostringstream s;
+  s << "a step of " << h << " s moved particle " << worst << " by " << travel << " m (speed " << speed
+    << " m/s at the step's start: step x speed = " << h * speed << " m) against a neighbour skin of "
+    << broadphase_.skin() << " m, of which a step may use half";
+  return s.str();
 }
 
 bool DemSystem::neighbours_cover(double t, const double* y) const { return built_ && covers(t, y, 0); }
@@ -152,9 +202,10 @@ bool DemSystem::covers(double t, const double* y, double lookahead) const {
   return 2 * moved < skin && moved + wall_moved < skin;
 }
 
-void DemSystem::rebuild(double t, const double* y) {
+void DemSystem::rebuild(double t, const double* y, double skin) {
   const double* px = y + x_at();
   const double* py = y + y_at();
+  broadphase_.set_skin(std::max(base_skin_, skin));
   broadphase_.particle_pairs(px, py, radius_.data(), n_, candidates_);
   pp_.replace(candidates_);
   set_coefficients(pp_, false);
@@ -666,6 +717,42 @@ std::vector<double> DemSystem::absolute_tolerances(const StepControl& c) const {
   fill(omega_at(), n_, c.atol_velocity);
   fill(temperature_at(), n_, c.atol_temperature);
   return atol;
+}
+
+// Conduction's Jacobian: W the heat capacities, S the Laplacian of the contact conductances at
+// (t, y) with the wall conductances on its diagonal, and the heat-from-walls row -sum H_iw.
+bool DemSystem::diffusion_jacobian(double t, const double* y, DiffusionJacobian& out) const {
+  if (!thermal_) return false;
+  const double *px = y + x_at(), *py = y + y_at();
+  out.first = temperature_at();
+  out.weight = capacity_;
+  out.row.clear();
+  out.col.clear();
+  out.value.clear();
+  out.flux = ledger_at() + ledger_heat_walls;
+  out.flux_row.assign(n_, 0.0);
+  auto add = [&](int r, int c, double v) {
+    out.row.push_back(r);
+    out.col.push_back(c);
+    out.value.push_back(v);
+  };
+  for (int p = 0, np = pp_.size(); p < np; ++p) {
+    const double h = pair_conductance(px, py, p);
+    if (h == 0) continue;
+    const int i = pp_.i[p], j = pp_.j[p];
+    add(i, i, h);
+    add(j, j, h);
+    add(std::max(i, j), std::min(i, j), -h);
+  }
+  wall_geometry(t, event_a_, event_b_);
+  for (int p = 0, np = pw_.size(); p < np; ++p) {
+    int wall = 0;
+    const double h = wall_conductance(px, py, event_a_, event_b_, p, wall);
+    if (h == 0) continue;
+    add(pw_.i[p], pw_.i[p], h);
+    out.flux_row[pw_.i[p]] -= h;
+  }
+  return true;
 }
 
 std::vector<ConductanceLink> DemSystem::conduction_links(double t, const double* y) const {

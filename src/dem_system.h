@@ -58,7 +58,10 @@ class DemSystem final : public OdeSystem {
   StateLayout layout() const override { return layout_; }
   void prepare(double t, const double* y, double lookahead) override;
   bool neighbours_cover(double t, const double* y) const override;
-  void rebuild_neighbours(double t, const double* y, const double*) override { rebuild(t, y); }
+  void rebuild_neighbours(double t, const double* y, double t_reached, const double* reached) override;
+  double neighbour_step_bound(const double* y) const override;
+  std::string describe_travel(const double* from, const double* to, double h) const override;
+  bool diffusion_jacobian(double t, const double* y, DiffusionJacobian& out) const override;
   void derivative(double t, const double* y, double* ydot) override { evaluate(t, y, ydot, Part::all, nullptr); }
   void accept(double t) override;
   bool has_history() const override { return pp_.history; }
@@ -139,8 +142,10 @@ class DemSystem final : public OdeSystem {
   // or the implicit part's Jacobian times the temperatures `temps` (walls held at 0).
   enum class Part { all, explicit_only, implicit_only, jacobian };
   void evaluate(double t, const double* y, double* ydot, Part part, const double* temps);
-  void rebuild(double t, const double* y);
+  // New candidate lists at (t, y) with a skin of at least `skin` (the base skin otherwise).
+  void rebuild(double t, const double* y, double skin = 0);
   bool covers(double t, const double* y, double lookahead) const;
+  double fastest_speed(const double* y) const;
   // Overlap of candidate contact p of the pp list (walls: of pw), negative when apart.
   double pair_overlap(const double* px, const double* py, int p) const;
   double wall_overlap(const double* px, const double* py, const std::vector<Vec2>& a, const std::vector<Vec2>& b,
@@ -193,6 +198,7 @@ class DemSystem final : public OdeSystem {
   std::vector<int> material_;
   std::vector<LawFlags> flags_;  // per material pair
 
+  double base_skin_ = 0;  // the scene's skin (or the automatic one); a rebuild may widen it for a step
   Broadphase broadphase_;
   std::vector<CandidatePair> candidates_;
   ContactList pp_, pw_;

@@ -169,7 +169,6 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
     long k = 0, frames = 1;
     double next_frame = t0 + interval;
     stepper.set_stop_time(scene.t_end);
-    guard.set_stage(dt, !mechanics);
     while (t < scene.t_end - tol) {
       stepper.step();
       ++k;
@@ -208,6 +207,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
   nlohmann::json integrator_stats;
   if (!scene.frozen) {
     StepSizes sizes;
+    guard.set_stage(scene.dt);
     ended = run_stage(*integrator, 0, scene.dt, scene.output_interval, true, t, sizes);
     total_steps += integrator->stats().steps;
     total_rhs += integrator->stats().rhs_evals;
@@ -237,6 +237,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
     const auto heat_start = std::chrono::steady_clock::now();
     heat_stepper->start(heat, t, y.data() + system.ledger_at(), dt);
     StepSizes sizes;
+    guard.set_stage(dt, 2 / heat.stiffest_rate());
     if (t < scene.t_end) ended = run_stage(*heat_stepper, t, dt, interval, false, t, sizes);
     total_steps += heat_stepper->stats().steps;
     total_rhs += heat_stepper->stats().rhs_evals;

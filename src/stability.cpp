@@ -151,9 +151,14 @@ DtVerdict judge_dt(const StabilityEstimate& est, double dt, const Scene& scene) 
   std::ostringstream s;
   // Explicit conduction: certain for the network that exists at t = 0, an estimate otherwise.
   // IMEX integrators take conduction implicitly and have no such limit.
-  bool implicit_conduction = false;
-  for (const IntegratorInfo& info : integrator_catalogue())
-    implicit_conduction = implicit_conduction || (info.name == scene.integrator && info.implicit);
+  auto implicit = [](const std::string& name) {
+    for (const IntegratorInfo& info : integrator_catalogue())
+      if (info.name == name) return info.implicit;
+    return false;
+  };
+  const bool implicit_conduction = implicit(scene.integrator);
+  const bool implicit_heating =
+      implicit(scene.freeze.integrator.empty() ? scene.integrator : scene.freeze.integrator);
   if (scene.thermal && !implicit_conduction && dt >= est.thermal_dt_limit_network) {
     s << "dt = " << dt << " s is beyond the explicit conduction limit " << est.thermal_dt_limit_network
       << " s of the contact network: the temperatures will blow up";
@@ -167,7 +172,7 @@ DtVerdict judge_dt(const StabilityEstimate& est, double dt, const Scene& scene) 
       << " s of a dense packing at 1 % overlap: the temperatures may blow up once contacts form";
     v.warnings.push_back(w.str());
   }
-  if (scene.thermal && !implicit_conduction && scene.freeze.enabled && scene.freeze.dt >= est.thermal_dt_limit) {
+  if (scene.thermal && !implicit_heating && scene.freeze.enabled && scene.freeze.dt >= est.thermal_dt_limit) {
     std::ostringstream w;
     w << "freeze.dt = " << scene.freeze.dt << " s is beyond the explicit conduction limit " << est.thermal_dt_limit
       << " s of a dense packing at 1 % overlap";

@@ -3,6 +3,7 @@
 // way (how close the ledger came to the blow-up threshold, the largest bounded overshoot of the
 // maximum principle) is a figure of the run: figures(), summary.json's "checks".
 #pragma once
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -29,10 +30,11 @@ class StabilityGuard {
   const StabilityEstimate& estimate() const { return estimate_; }
   // What the checks measured over the run, for summary.json's "checks".
   nlohmann::json figures() const;
-  // The stage now running: its step and whether only heat is integrated (for the message).
-  void set_stage(double dt, bool heat_only) {
+  // The stage now running, for the message: its step, and for a stage of heat alone the explicit
+  // conduction limit of its network (NaN for the mechanical stage).
+  void set_stage(double dt, double heat_limit = NAN) {
     dt_ = dt;
-    heat_only_ = heat_only;
+    heat_limit_ = heat_limit;
   }
 
  private:
@@ -42,7 +44,7 @@ class StabilityGuard {
   EnergyLedger initial_;
   StabilityEstimate estimate_;
   double dt_ = 0;
-  bool heat_only_ = false;
+  double heat_limit_ = NAN;
   // Energy: the largest exchanged() seen, the worst |balance error| / that so far, and the
   // potential energy of rounding every position once (J) times the mechanical steps taken.
   double largest_exchange_ = 0;

@@ -242,7 +242,7 @@ TEST_CASE("explicit conduction beyond its limit is refused up front and stopped 
   } catch (const InstabilityError& e) {
     const std::string msg = e.what();
     CHECK(msg.find("maximum principle") != std::string::npos);
-    CHECK(msg.find("explicit conduction is stable below dt = 0.106") != std::string::npos);
+    CHECK(msg.find("explicit conduction of this network is stable below dt = 0.106") != std::string::npos);
   }
 }
 
