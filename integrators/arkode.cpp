@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <stdexcept>
 
 #include <arkode/arkode_butcher.h>
@@ -71,7 +72,7 @@ int ArkodeIntegrator::implicit_rhs(double t, N_Vector y, N_Vector ydot, void* p)
 void ArkodeIntegrator::start(OdeSystem& system, double t0, double* y, double dt) {
   system_ = &system;
   y_ = y;
-  t_ = t0;
+  t_ = grid_start_ = t0;
   dt_ = dt;
   const int n = system.layout().size();
   scratch_.assign(n, 0.0);
@@ -126,7 +127,7 @@ void ArkodeIntegrator::start(OdeSystem& system, double t0, double* y, double dt)
 
 void ArkodeIntegrator::set_stop_time(double t) {
   stop_ = t;
-  check(ARKStepSetStopTime(memory_, t), "SetStopTime");
+  if (control_.rtol > 0) check(ARKStepSetStopTime(memory_, t), "SetStopTime");
 }
 
 void ArkodeIntegrator::step() {
@@ -185,6 +186,10 @@ void ArkodeIntegrator::step() {
     check(ARKStepReset(memory_, t_, state_), "Reset");
     if (std::isfinite(stop_)) check(ARKStepSetStopTime(memory_, stop_), "SetStopTime");
     ++events_located_;
+    grid_start_ = t_;  // fixed steps go on from the event
+    grid_steps_ = 0;
+  } else {
+    ++grid_steps_;
   }
   if (system_->has_history()) {
     // The contact history of the accepted step comes from an evaluation at its end (the stages
@@ -198,6 +203,14 @@ void ArkodeIntegrator::step() {
 }
 
 void ArkodeIntegrator::evolve_one_step() {
+  if (control_.rtol == 0 && std::isfinite(stop_)) {
+    // Fixed steps: ARKODE sums its steps into t, so after many steps its t is off the grid
+    // grid_start_ + k dt by their round-off. Which step is the last is decided on the grid; that
+    // step is taken from ARKODE's t to exactly the stop time (never a step of 1e-12 s after it).
+    const bool last = stop_ - (grid_start_ + static_cast<double>(grid_steps_) * dt_) <= dt_ * (1 + 1e-9);
+    check(ARKStepSetStopTime(memory_, last ? stop_ : std::numeric_limits<double>::max()), "SetStopTime");
+    if (last) check(ARKStepSetFixedStep(memory_, stop_ - t_), "SetFixedStep");
+  }
   double reached = t_;
   const int flag = ARKStepEvolve(memory_, stop_, state_, &reached, ARK_ONE_STEP);
   if (flag < 0) {

@@ -52,6 +52,8 @@ class ArkodeIntegrator final : public Integrator {
   OdeSystem* system_ = nullptr;
   double* y_ = nullptr;
   double t_ = 0, dt_ = 0, stop_ = INFINITY;
+  double grid_start_ = 0;  // fixed steps: t = grid_start_ + grid_steps_ dt, exactly
+  long grid_steps_ = 0;
   SUNContext context_ = nullptr;
   N_Vector state_ = nullptr;
   void* memory_ = nullptr;

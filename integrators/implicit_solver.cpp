@@ -1,7 +1,5 @@
 #include "integrators/implicit_solver.h"
 
-#include <sunlinsol/sunlinsol_spgmr.h>
-
 #include <chrono>
 #include <stdexcept>
 
@@ -29,7 +27,6 @@ const char* name_of(LinearSolverKind k) {
   switch (k) {
     case LinearSolverKind::cholesky: return "cholesky";
     case LinearSolverKind::cg: return "cg";
-    case LinearSolverKind::gmres: return "gmres";
   }
   return "?";
 }
@@ -39,8 +36,8 @@ const char* name_of(LinearSolverKind k) {
 ImplicitSolver::ImplicitSolver(LinearSolverKind kind, OdeSystem& system, N_Vector state, SUNContext context)
     : kind_(kind), system_(system) {
   DiffusionJacobian probe;
-  if (kind_ != LinearSolverKind::gmres && !system_.diffusion_jacobian(0, N_VGetArrayPointer(state), probe))
-    kind_ = LinearSolverKind::gmres;
+  if (!system_.diffusion_jacobian(0, N_VGetArrayPointer(state), probe))
+    throw std::runtime_error("an IMEX integrator needs the implicit part's diffusion Jacobian");
   handle_ = SUNLinSolNewEmpty(context);
   if (!handle_) throw std::runtime_error("SUNDIALS: SUNLinSolNewEmpty failed");
   handle_->content = this;
@@ -48,19 +45,11 @@ ImplicitSolver::ImplicitSolver(LinearSolverKind kind, OdeSystem& system, N_Vecto
   handle_->ops->getid = id;
   handle_->ops->setup = setup;
   handle_->ops->solve = solve;
-  handle_->ops->setscalingvectors = set_scaling;
   handle_->ops->numiters = iterations;
   handle_->ops->free = free_solver;
-  if (kind_ == LinearSolverKind::gmres) {
-    gmres_ = SUNLinSol_SPGMR(state, SUN_PREC_NONE, 0, context);
-    if (!gmres_) throw std::runtime_error("SUNDIALS: SUNLinSol_SPGMR failed");
-    SUNLinSolSetATimes(gmres_, this, stage_matrix_times);
-    SUNLinSolInitialize(gmres_);
-  }
 }
 
 ImplicitSolver::~ImplicitSolver() {
-  if (gmres_) SUNLinSolFree(gmres_);
   if (handle_) SUNLinSolFreeEmpty(handle_);
 }
 
@@ -76,7 +65,6 @@ void ImplicitSolver::refresh() {
   N_Vector current = nullptr;
   ARKStepGetCurrentState(arkode_, &current);
   y_ = N_VGetArrayPointer(current);
-  if (kind_ == LinearSolverKind::gmres) return;
   system_.diffusion_jacobian(t_, y_, jacobian_);
   const bool same_pattern = jacobian_.row == factored_.row && jacobian_.col == factored_.col &&
                             jacobian_.weight.size() == factored_.weight.size();
@@ -130,20 +118,14 @@ int ImplicitSolver::setup(SUNLinearSolver s, SUNMatrix) {
   ImplicitSolver* self = self_of(s);
   Timer timer(self->seconds_);
   self->refresh();
-  return self->gmres_ ? SUNLinSolSetup(self->gmres_, nullptr) : 0;
+  return 0;
 }
 
-int ImplicitSolver::solve(SUNLinearSolver s, SUNMatrix, N_Vector x, N_Vector b, double tol) {
+int ImplicitSolver::solve(SUNLinearSolver s, SUNMatrix, N_Vector x, N_Vector b, double) {
   ImplicitSolver* self = self_of(s);
   Timer timer(self->seconds_);
   ++self->solves_;
   self->refresh();
-  if (self->gmres_) {
-    const int flag = SUNLinSolSolve(self->gmres_, nullptr, x, b, tol);
-    self->last_iterations_ = SUNLinSolNumIters(self->gmres_);
-    self->iterations_ += self->last_iterations_;
-    return flag;
-  }
   // Components outside the block and the flux: (I - gamma J) is the identity there.
   N_VScale(1.0, b, x);
   self->solve_block(N_VGetArrayPointer(b), N_VGetArrayPointer(x));
@@ -151,24 +133,13 @@ int ImplicitSolver::solve(SUNLinearSolver s, SUNMatrix, N_Vector x, N_Vector b, 
   return 0;
 }
 
-int ImplicitSolver::set_scaling(SUNLinearSolver s, N_Vector s1, N_Vector s2) {
-  ImplicitSolver* self = self_of(s);
-  return self->gmres_ ? SUNLinSolSetScalingVectors(self->gmres_, s1, s2) : 0;
-}
 
 int ImplicitSolver::iterations(SUNLinearSolver s) { return static_cast<int>(self_of(s)->last_iterations_); }
-
-int ImplicitSolver::stage_matrix_times(void* p, N_Vector v, N_Vector z) {
-  ImplicitSolver* self = static_cast<ImplicitSolver*>(p);
-  self->system_.implicit_jacobian_times(self->t_, self->y_, N_VGetArrayPointer(v), N_VGetArrayPointer(z));
-  N_VLinearSum(1.0, v, -self->gamma_, z, z);
-  return 0;
-}
 
 nlohmann::json ImplicitSolver::statistics() const {
   return {{"linear_solver", name_of(kind_)},
           {"linear_solves", solves_},
-          {"factorizations", kind_ == LinearSolverKind::gmres ? 0 : factorizations_},
+          {"factorizations", kind_ == LinearSolverKind::cholesky ? factorizations_ : 0},
           {"linear_iterations", iterations_},
           {"linear_solver_seconds", seconds_}};
 }

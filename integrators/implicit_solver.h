@@ -2,10 +2,15 @@
 // system's implicit part (heat conduction), as a SUNDIALS matrix-embedded linear solver (ARKODE
 // hands it no matrix; it reads gamma and the stage's state from ARKODE and assembles what it needs).
 //
-// Why not SPGMR alone: with the tight tolerances a fixed-step run needs (the solver error must stay
-// below the truncation error), GMRES on a small network exhausts its Krylov space before meeting
-// the tolerance and stops on a singular Hessenberg matrix (SUNLS_QRFACT_FAIL, 807): T4 under imex4
-// failed at dt = 0.08 s and ran at 0.075 and 0.085 s, which step fails depends on round-off.
+// Why not SUNDIALS' matrix-free SPGMR, which kiln used before: with the tight tolerances a fixed-step
+// run needs (the solver error must stay below the truncation error), GMRES on a small network
+// exhausts its Krylov space before meeting the tolerance and stops on a singular Hessenberg matrix
+// (SUNLS_QRFACT_FAIL, 807): T4 under imex4 failed at dt = 0.08 s and ran at 0.075 and 0.085 s.
+// Elsewhere it stops at ARKODE's linear tolerance (5 Krylov vectors by default), and with one
+// Newton iteration per stage that error stays: on F1 at 30x the explicit limit it put temperatures
+// 154 K outside their range. Measured on F1 (imex4, dt 0.43 s): SPGMR 1.6 ms in the solver and a
+// wrong result, conjugate gradients 0.46 ms, this Cholesky 0.18 ms; on P1, a moving powder, 0.39 s
+// against 0.11 s.
 // Conduction is linear, and its Jacobian -C^-1 L is symmetric in the C-weighted form, so the stage
 // system (C + gamma L) x = C b is symmetric positive definite: a sparse Cholesky solves it exactly
 // once factorized, and the factor is kept while gamma and the network stay (a fixed step on a
@@ -25,25 +30,23 @@ namespace kiln {
 
 class ImplicitSolver {
  public:
-  // `kind` falls back to gmres when the system gives no diffusion Jacobian.
+  // The system must give a diffusion Jacobian (OdeSystem::diffusion_jacobian).
   ImplicitSolver(LinearSolverKind kind, OdeSystem& system, N_Vector state, SUNContext context);
   ~ImplicitSolver();
   ImplicitSolver(const ImplicitSolver&) = delete;
   ImplicitSolver& operator=(const ImplicitSolver&) = delete;
   // Attaches to ARKStep memory (after ARKStepCreate): sets this as its linear solver.
   void attach(void* arkode_memory);
-  // kind, solves, factorizations, iterations (cg, gmres), seconds inside setup and solve.
+  // kind, solves, factorizations (cholesky), iterations (cg), seconds inside setup and solve.
   nlohmann::json statistics() const;
 
  private:
   static SUNLinearSolver_Type type(SUNLinearSolver) { return SUNLINEARSOLVER_MATRIX_EMBEDDED; }
   static SUNLinearSolver_ID id(SUNLinearSolver) { return SUNLINEARSOLVER_CUSTOM; }
   static int setup(SUNLinearSolver s, SUNMatrix);
-  static int solve(SUNLinearSolver s, SUNMatrix, N_Vector x, N_Vector b, double tol);
-  static int set_scaling(SUNLinearSolver s, N_Vector s1, N_Vector s2);
+  static int solve(SUNLinearSolver s, SUNMatrix, N_Vector x, N_Vector b, double tol);  // tol unused: exact or 1e-12
   static int iterations(SUNLinearSolver s);
   static int free_solver(SUNLinearSolver) { return 0; }  // owned by ImplicitSolver
-  static int stage_matrix_times(void* self, N_Vector v, N_Vector z);  // z = (I - gamma J) v, for gmres
 
   // Reads gamma, t and the stage state from ARKODE; refactors when gamma or the network changed.
   void refresh();
@@ -53,7 +56,6 @@ class ImplicitSolver {
   OdeSystem& system_;
   void* arkode_ = nullptr;
   SUNLinearSolver handle_ = nullptr;
-  SUNLinearSolver gmres_ = nullptr;  // the inner SPGMR (kind gmres)
   double gamma_ = 0, t_ = 0;
   const double* y_ = nullptr;
   DiffusionJacobian jacobian_, factored_;  // the latest, and the one factorized

@@ -14,12 +14,12 @@ namespace kiln {
 
 // Step-size control. rtol > 0 makes adaptive integrators adapt (starting from dt); fixed-step
 // implicit solves still use rtol/atol to stop their iterations, so they get tight defaults.
-// How the implicit stages' linear systems (I - gamma J) x = b are solved (IMEX pairs):
-//  - cholesky: exact, a sparse Cholesky (LDL^T) of the symmetric form W + gamma S of a diffusion
-//    Jacobian (DiffusionJacobian), refactored only when gamma or the network changes;
-//  - cg: conjugate gradients with a diagonal preconditioner on the same symmetric form;
-//  - gmres: SUNDIALS' matrix-free SPGMR on Jacobian-vector products (any implicit part).
-enum class LinearSolverKind { cholesky, cg, gmres };
+// How the implicit stages' linear systems (I - gamma J) x = b are solved (IMEX pairs), both on the
+// symmetric form W + gamma S of a diffusion Jacobian (DiffusionJacobian):
+//  - cholesky: exact, a sparse Cholesky (LDL^T), refactored only when gamma or the network changes;
+//  - cg: conjugate gradients with a diagonal preconditioner.
+// SUNDIALS' matrix-free SPGMR was measured and dropped (integrators/implicit_solver.h).
+enum class LinearSolverKind { cholesky, cg };
 
 struct StepControl {
   double rtol = 0;

@@ -112,13 +112,19 @@ std::string describe_steps(const nlohmann::json& stage, double dt, bool adaptive
   if (adaptive) {
     std::snprintf(text, sizeof text, "%ld adaptive steps (%.3g to %.3g s, mean %.3g s)", n, h["min"].get<double>(),
                   h["max"].get<double>(), h["mean"].get<double>());
-  } else if (h["last"].get<double>() < dt * (1 - 1e-9)) {
+  } else if (h["last"].get<double>() < dt * (1 - 1e-4)) {  // closer: dt less ARKODE's summed round-off
     std::snprintf(text, sizeof text, "%ld steps of %g s (the last %.3g s, to end on t_end)", n, dt,
                   h["last"].get<double>());
   } else {
     std::snprintf(text, sizeof text, "%ld steps of %g s", n, dt);
   }
-  return text;
+  std::string described = text;
+  if (stage.contains("contact_events") && stage["contact_events"].get<long>() > 0) {
+    std::snprintf(text, sizeof text, "; %ld contact events cut a step and restarted the steps there (smallest %.3g s)",
+                  stage["contact_events"].get<long>(), h["min"].get<double>());
+    described += text;
+  }
+  return described;
 }
 
 int run(const SceneArgs& a, std::string out, bool quiet, bool force) {
@@ -133,11 +139,15 @@ int run(const SceneArgs& a, std::string out, bool quiet, bool force) {
     const bool adaptive = scene.control.rtol > 0;
     const nlohmann::json& stats = s["integrator_stats"];
     std::string steps = describe_steps(stats, scene.dt, adaptive);
-    if (stats.contains("heat_stage"))
+    std::string integrators = scene.integrator;
+    if (stats.contains("heat_stage")) {
+      const std::string heat = stats["heat_stage"]["integrator"].get<std::string>();
       steps += ", then " + describe_steps(stats["heat_stage"], scene.freeze.dt, adaptive) + " of frozen heating";
+      if (heat != scene.integrator) integrators += " (heating: " + heat + ")";
+    }
     std::printf("%s: %s with %s, %.3g s wall (%.3g particle-steps/s); energy balance error %.3g J; "
                 "outputs in %s/\n",
-                scene.name.c_str(), steps.c_str(), scene.integrator.c_str(),
+                scene.name.c_str(), steps.c_str(), integrators.c_str(),
                 s["wall_seconds"].get<double>(), s["particle_steps_per_second"].get<double>(),
                 s["energy"]["balance_error"].get<double>(), out.c_str());
   }

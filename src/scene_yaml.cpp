@@ -533,10 +533,8 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   // Whether the integrator can adapt or locate events is checked where it is made (make_integrator).
   if (auto e = root.optional("contact_events")) scene.control.contact_events = e->boolean();
   if (auto l = root.optional("linear_solver")) {
-    const std::string kind = l->choice({"cholesky", "cg", "gmres"});
-    scene.control.linear_solver = kind == "cg"      ? LinearSolverKind::cg
-                                  : kind == "gmres" ? LinearSolverKind::gmres
-                                                    : LinearSolverKind::cholesky;
+    scene.control.linear_solver =
+        l->choice({"cholesky", "cg"}) == "cg" ? LinearSolverKind::cg : LinearSolverKind::cholesky;
   }
   check_integrators(root, scene);
   scene.dt = root["dt"].positive();

@@ -175,6 +175,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
       t = stepper.time();
       sizes.add(stepper.stats().last_step);
       if (mechanics) guard.every_step(t);
+      guard.temperatures(t, y.data());
       for (auto& o : observers) o->sample(t, y.data());
       const bool at_end = t >= scene.t_end - tol;
       if (t >= next_frame - tol || at_end) {
@@ -209,7 +210,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
     StepSizes sizes;
     guard.set_stage(scene.dt);
     ended = run_stage(*integrator, 0, scene.dt, scene.output_interval, true, t, sizes);
-    total_steps += integrator->stats().steps;
+    total_steps += sizes.count;  // the steps the run kept (ARKODE's count adds redone ones)
     total_rhs += integrator->stats().rhs_evals;
     integrator_stats = integrator->statistics();
     integrator_stats["step_size"] = sizes.json();
@@ -239,11 +240,13 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
     StepSizes sizes;
     guard.set_stage(dt, 2 / heat.stiffest_rate());
     if (t < scene.t_end) ended = run_stage(*heat_stepper, t, dt, interval, false, t, sizes);
-    total_steps += heat_stepper->stats().steps;
+    total_steps += sizes.count;
     total_rhs += heat_stepper->stats().rhs_evals;
     nlohmann::json& heat_stats = scene.frozen ? integrator_stats : integrator_stats["heat_stage"];
     heat_stats = heat_stepper->statistics();
     heat_stats["step_size"] = sizes.json();
+    heat_stats["integrator"] = heat_integrator;
+    heat_stats["dt"] = dt;
     heat_stats["rhs_evals"] = heat_stepper->stats().rhs_evals;
     heat_stats["wall_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - heat_start).count();
     all_steps.merge(sizes);

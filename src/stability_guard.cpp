@@ -31,9 +31,10 @@ StabilityGuard::StabilityGuard(const Scene& scene, const DemSystem& sys, const E
   for (int i = 0; i < sys.particles(); ++i)
     rounding_per_step_ += sys.mass(i) * (std::abs(scene.gravity.x) * half_ulp(scene.position[i].x) +
                                          std::abs(scene.gravity.y) * half_ulp(scene.position[i].y));
-  // Without heat sources conduction obeys a maximum principle: no temperature leaves the range
-  // of the initial and wall temperatures.
-  if (scene.thermal && scene.heat_from_dissipation == HeatFromDissipation::none) {
+  // Conduction obeys a maximum principle: no temperature leaves the range of the initial and
+  // wall temperatures. Heat sources (dissipation turned to heat) only add heat, so with them the
+  // lower bound still holds: an unstable conduction mode, which alternates in sign, crosses it.
+  if (scene.thermal) {
     low_ = *std::min_element(scene.temperature.begin(), scene.temperature.end());
     high_ = *std::max_element(scene.temperature.begin(), scene.temperature.end());
     for (const Wall& w : scene.walls)
@@ -41,6 +42,8 @@ StabilityGuard::StabilityGuard(const Scene& scene, const DemSystem& sys, const E
         low_ = std::min(low_, v);
         high_ = std::max(high_, v);
       }
+    width_ = high_ > low_ ? high_ - low_ : 1.0;  // kelvin, when every temperature starts equal
+    if (scene.heat_from_dissipation != HeatFromDissipation::none) high_ = INFINITY;
   }
 }
 
@@ -60,7 +63,10 @@ void StabilityGuard::finite(double t, const double* y, int size) {
   // The ledger too, between frames: a study writes one frame, at its end, which may fall at the
   // apex of a bounce; the largest exchange must have seen the bounce itself.
   energy(t, sys_.energy(t, y));
-  if (!sys_.thermal() || !(high_ > low_)) return;
+}
+
+void StabilityGuard::temperatures(double t, const double* y) {
+  if (!sys_.thermal()) return;
   // Without heat sources no temperature leaves [low, high]. A step that is stable for conduction
   // multiplies each mode of the deviation from the walls' steady state (itself in the range) by
   // |R(z)| <= 1: what a stable run shows beyond the range is modes of either sign adding up,
@@ -74,7 +80,6 @@ void StabilityGuard::finite(double t, const double* y, int size) {
   // A tenth, not the whole width: a short run must show its growth within a few steps (a sweep of
   // erk4 on T4, three steps a run, puts the boundary at 0.157 s with a tenth, 0.164 s with the
   // whole width, against 0.149 s for RK4's stability interval).
-  const double width = high_ - low_;
   double excursion = 0;
   int worst = -1;
   for (int i = 0; i < sys_.particles(); ++i) {
@@ -92,7 +97,7 @@ void StabilityGuard::finite(double t, const double* y, int size) {
   }
   const double before = previous_excursion_;
   previous_excursion_ = excursion;
-  const double threshold = 0.1 * width;
+  const double threshold = 0.1 * width_;
   const bool last = t >= scene_.t_end - 1e-9 * dt_;  // as run_scene ends its stages
   const bool growing = before > threshold && excursion > before;
   if (excursion > threshold && (growing || last)) {
@@ -112,8 +117,8 @@ void StabilityGuard::finite(double t, const double* y, int size) {
 void StabilityGuard::energy(double t, const EnergyLedger& now) {
   // The yardstick is the largest exchange so far, not this instant's: at the apex of an elastic
   // bounce the kinetic energy and the potential change are back to zero, and an error of 1e-6 of
-  // the bounce read as a blow-up. Only a gain counts: an unbooked loss cannot exceed the energy
-  // there was, so it cannot grow.
+  // the bounce read as a blow-up. Both signs count: a dashpot driven unstable books negative
+  // dissipation, so the energy it creates shows as a loss in the balance.
   largest_exchange_ = std::max(largest_exchange_, exchanged(initial_, now));
   const double error = balance_error(initial_, now);
   if (!(largest_exchange_ > 0)) return;
@@ -123,9 +128,9 @@ void StabilityGuard::energy(double t, const EnergyLedger& now) {
     worst_error_time_ = t;
   }
   const double rounding = rounding_per_step_ * static_cast<double>(steps_);
-  if (error > blow_up_fraction * largest_exchange_ + rounding) {
+  if (std::abs(error) > blow_up_fraction * largest_exchange_ + rounding) {
     std::ostringstream s;
-    s << "energy blow-up: the ledger gained " << error << " J, more than " << blow_up_fraction
+    s << "energy blow-up: the ledger is off by " << error << " J, more than " << blow_up_fraction
       << " of the largest energy exchanged so far (" << largest_exchange_ << " J) plus the positions' round-off ("
       << rounding << " J)";
     fail(t, s.str());
@@ -139,8 +144,8 @@ nlohmann::json StabilityGuard::figures() const {
                         {"worst_at", worst_error_time_},
                         {"blow_up_above", blow_up_fraction},
                         {"round_off_allowance", rounding_per_step_ * static_cast<double>(steps_)}}}};
-  if (sys_.thermal() && high_ > low_) {
-    const double width = high_ - low_;
+  if (sys_.thermal()) {
+    const double width = width_;
     const bool any = overshoot_particle_ >= 0;
     f["max_principle_overshoot"] = {{"kelvin", overshoot_},
                                     {"fraction_of_range", overshoot_ / width},

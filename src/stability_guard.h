@@ -19,13 +19,15 @@ class StabilityGuard {
   StabilityGuard(const Scene& scene, const DemSystem& sys, const EnergyLedger& initial);
   // After every mechanical step: the largest overlap against checks.max_overlap_fraction.
   void every_step(double t);
-  // At frames and every 64 steps: a finite state; temperatures within the maximum principle of
-  // conduction (an excursion beyond the range by more than a tenth of its width that grows from
-  // one check to the next, or is there at the run's last check, stops the run; any other is a
-  // bounded overshoot, recorded); and the energy check on the state's ledger.
+  // At frames and every 64 steps: a finite state, and the energy check on the state's ledger.
   void finite(double t, const double* y, int size);
-  // Energy blow-up: the ledger has gained more than a quarter of the largest energy exchanged so
-  // far, beyond what rounding the positions to their ulp at every step can account for.
+  // After every step of a thermal scene: temperatures within the maximum principle of conduction
+  // (an excursion beyond the range by more than a tenth of its width that grows from one step to
+  // the next, or is there at the run's last step, stops the run; any other is a bounded
+  // overshoot, recorded). With heat sources only the lower bound holds.
+  void temperatures(double t, const double* y);
+  // Energy blow-up: the ledger is off, either way, by more than a quarter of the largest energy
+  // exchanged so far, beyond what rounding the positions to their ulp at every step accounts for.
   void energy(double t, const EnergyLedger& now);
   const StabilityEstimate& estimate() const { return estimate_; }
   // What the checks measured over the run, for summary.json's "checks".
@@ -51,9 +53,10 @@ class StabilityGuard {
   double rounding_per_step_ = 0;
   long steps_ = 0;
   double worst_relative_error_ = 0, worst_error_time_ = 0;
-  // Maximum principle (checked when low_ < high_): the range of the initial and wall temperatures,
-  // the largest excursion beyond it so far, and the excursion at the previous check.
-  double low_ = 0, high_ = 0;
+  // Maximum principle: the range of the initial and wall temperatures (high_ infinite with heat
+  // sources) and its width (1 K when all start equal), the largest excursion beyond it so far,
+  // and the excursion at the previous check.
+  double low_ = 0, high_ = 0, width_ = 1;
   double overshoot_ = 0, overshoot_time_ = 0, previous_excursion_ = 0;
   int overshoot_particle_ = -1;
 };

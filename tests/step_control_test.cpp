@@ -132,3 +132,24 @@ TEST_CASE("adaptive runs of the shipped exact cases finish from rtol 1e-4 to 1e-
       CHECK(s["t_end"].get<double>() == Approx(scene.t_end));
     }
 }
+
+TEST_CASE("fixed ARKODE steps end exactly on t_end however many there are (no step of 1e-12 s after them)",
+          "[step_control]") {
+  // ARKODE sums its steps into t: after 300,000 steps of 1e-6 s it stood 1.1e-12 s short of 0.3 and
+  // took one more step of that length.
+  const auto s = run_scene(load_scene(testing::case_path("t1_free_fall.yaml"), {"integrator=erk4", "t_end=0.3"}),
+                           {"", true});
+  CHECK(s["steps"].get<long>() == 300000);
+  CHECK(s["t_end"].get<double>() == 0.3);
+  CHECK(s["step_size"]["min"].get<double>() == Approx(1e-6).epsilon(1e-4));
+}
+
+TEST_CASE("a frozen heating stage reports the integrator and step it ran with", "[step_control]") {
+  const auto s = run_scene(load_scene(testing::case_path("n2_heated_steel_bed.yaml"),
+                                      {"freeze.integrator=imex4", "freeze.dt=450"}),
+                           {"", true});
+  const auto& heat = s["integrator_stats"]["heat_stage"];
+  CHECK(heat["integrator"] == "imex4");
+  CHECK(heat["dt"].get<double>() == 450);
+  CHECK(heat["step_size"]["max"].get<double>() == Approx(450));
+}
