@@ -80,6 +80,9 @@ class OdeSystem {
   // IMEX split f = f_E + f_I: f_I is the stiff part, linear in y (heat conduction on a fixed
   // candidate list). Systems without one are fully explicit.
   virtual bool has_implicit_part() const { return false; }
+  // Whether f_I is linear in the whole state y (a frozen network). When it also depends on
+  // explicit components (conductances on moving positions), a stage's solve is iterated.
+  virtual bool implicit_part_is_linear() const { return true; }
   virtual void explicit_part(double t, const double* y, double* ydot) { derivative(t, y, ydot); }
   virtual void implicit_part(double, const double*, double* ydot) { std::fill_n(ydot, layout().size(), 0.0); }
   // jv = (d f_I / d y) v.
@@ -141,7 +144,15 @@ struct IntegratorInfo {
   int embedding = 0;          // order of the embedded error estimate; 0: none (fixed step only)
   bool implicit = false;      // IMEX: conduction implicit
   std::string summary;
+  // How far the method's stability region reaches along the negative real axis, in units of
+  // dt lambda: explicit conduction is stable below dt = real_stability / lambda_max. 2 for forward
+  // Euler and Heun (and so for the Verlet schemes' temperatures), 2.51 for third-order and 2.79
+  // for fourth-order four-stage tables; infinite for IMEX (conduction implicit).
+  double real_stability = 2;
 };
+
+// real_stability of the integrator with this name (aliases included); 2 for an unknown name.
+double real_stability_of(const std::string& name);
 
 // Every name a user can type, aliases included.
 const std::vector<IntegratorInfo>& integrator_catalogue();

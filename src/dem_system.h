@@ -67,6 +67,7 @@ class DemSystem final : public OdeSystem {
   bool has_history() const override { return pp_.history; }
   // IMEX: conduction (linear in the temperatures) is the implicit part; all else is explicit.
   bool has_implicit_part() const override { return thermal_; }
+  bool implicit_part_is_linear() const override { return false; }  // conductances follow the positions
   void explicit_part(double t, const double* y, double* ydot) override {
     evaluate(t, y, ydot, Part::explicit_only, nullptr);
   }

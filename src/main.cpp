@@ -2,6 +2,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -91,8 +92,15 @@ int check(const SceneArgs& a) {
     std::printf("  recommended dt             %.4g s (contact duration / 50)\n", est.recommended_dt);
   }
   if (scene.thermal) {
-    std::printf("  explicit conduction limit  %.4g s (contact network at t = 0)", est.thermal_dt_limit_network);
+    std::printf("  explicit conduction limit  %.4g s (2 / lambda_max, contact network at t = 0)",
+                est.thermal_dt_limit_network);
     if (!scene.frozen) std::printf(", %.4g s (dense packing at 1 %% overlap)", est.thermal_dt_limit);
+    const double reach = kiln::real_stability_of(scene.integrator);
+    if (std::isinf(reach))
+      std::printf("\n  %-26s none (conduction implicit)", (scene.integrator + "'s limit").c_str());
+    else if (reach != 2)
+      std::printf("\n  %-26s %.4g s (%.4g / lambda_max: the table's reach on the negative real axis)",
+                  (scene.integrator + "'s limit").c_str(), reach / 2 * est.thermal_dt_limit_network, reach);
     std::printf("\n  thermal relaxation time    %.4g s (fastest mode, 1 / lambda_max)\n", est.thermal_relaxation_time);
   }
   std::fflush(stdout);  // the verdict goes to stderr, after the table

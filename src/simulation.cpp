@@ -238,7 +238,7 @@ nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
     const auto heat_start = std::chrono::steady_clock::now();
     heat_stepper->start(heat, t, y.data() + system.ledger_at(), dt);
     StepSizes sizes;
-    guard.set_stage(dt, 2 / heat.stiffest_rate());
+    guard.set_stage(dt, real_stability_of(heat_integrator) / heat.stiffest_rate());
     if (t < scene.t_end) ended = run_stage(*heat_stepper, t, dt, interval, false, t, sizes);
     total_steps += sizes.count;
     total_rhs += heat_stepper->stats().rhs_evals;

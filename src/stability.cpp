@@ -151,31 +151,31 @@ DtVerdict judge_dt(const StabilityEstimate& est, double dt, const Scene& scene) 
   std::ostringstream s;
   // Explicit conduction: certain for the network that exists at t = 0, an estimate otherwise.
   // IMEX integrators take conduction implicitly and have no such limit.
-  auto implicit = [](const std::string& name) {
-    for (const IntegratorInfo& info : integrator_catalogue())
-      if (info.name == name) return info.implicit;
-    return false;
-  };
-  const bool implicit_conduction = implicit(scene.integrator);
-  const bool implicit_heating =
-      implicit(scene.freeze.integrator.empty() ? scene.integrator : scene.freeze.integrator);
-  if (scene.thermal && !implicit_conduction && dt >= est.thermal_dt_limit_network) {
-    s << "dt = " << dt << " s is beyond the explicit conduction limit " << est.thermal_dt_limit_network
-      << " s of the contact network: the temperatures will blow up";
+  // The limits are 2 / lambda_max (Euler, Heun, the Verlet schemes' temperatures), scaled by the
+  // integrator's reach along the negative real axis (RK4 2.79 / lambda_max; IMEX: none).
+  const double reach = real_stability_of(scene.integrator) / 2;
+  const std::string& heating = scene.freeze.integrator.empty() ? scene.integrator : scene.freeze.integrator;
+  const double heating_reach = real_stability_of(heating) / 2;
+  if (scene.thermal && dt >= reach * est.thermal_dt_limit_network) {
+    s << "dt = " << dt << " s is beyond " << scene.integrator << "'s explicit conduction limit "
+      << reach * est.thermal_dt_limit_network << " s on the contact network (" << 2 * reach
+      << " / lambda_max): the temperatures will blow up";
     v.unstable = true;
     v.warnings.push_back(s.str());
     return v;
   }
-  if (scene.thermal && !implicit_conduction && dt >= est.thermal_dt_limit) {
+  if (scene.thermal && dt >= reach * est.thermal_dt_limit) {
     std::ostringstream w;
-    w << "dt = " << dt << " s is beyond the explicit conduction limit " << est.thermal_dt_limit
-      << " s of a dense packing at 1 % overlap: the temperatures may blow up once contacts form";
+    w << "dt = " << dt << " s is beyond " << scene.integrator << "'s explicit conduction limit "
+      << reach * est.thermal_dt_limit << " s on a dense packing at 1 % overlap: the temperatures may blow up once "
+      << "contacts form";
     v.warnings.push_back(w.str());
   }
-  if (scene.thermal && !implicit_heating && scene.freeze.enabled && scene.freeze.dt >= est.thermal_dt_limit) {
+  if (scene.thermal && scene.freeze.enabled && scene.freeze.dt >= heating_reach * est.thermal_dt_limit) {
     std::ostringstream w;
-    w << "freeze.dt = " << scene.freeze.dt << " s is beyond the explicit conduction limit " << est.thermal_dt_limit
-      << " s of a dense packing at 1 % overlap";
+    w << "freeze.dt = " << scene.freeze.dt << " s is beyond " << heating << "'s explicit conduction limit "
+      << heating_reach * est.thermal_dt_limit << " s on a dense packing at 1 % overlap (the settled network's "
+      << "own limit is reported by the run as frozen_network.explicit_dt_limit)";
     v.warnings.push_back(w.str());
   }
   if (scene.frozen) return v;  // no mechanics to judge

@@ -159,9 +159,11 @@ nlohmann::json StabilityGuard::figures() const {
 void StabilityGuard::fail(double t, const std::string& what) const {
   std::ostringstream s;
   s << "unstable run at t = " << t << " s: " << what << ". dt = " << dt_ << " s; ";
-  if (!std::isnan(heat_limit_))
+  if (std::isinf(heat_limit_))
+    s << "conduction is implicit here: no step limit applies (an inexact stage solve?)";
+  else if (!std::isnan(heat_limit_))
     s << "explicit conduction of this network is stable below dt = " << heat_limit_
-      << " s (IMEX integrators, imex1 and imex3 to imex5, have none)";
+      << " s with this integrator (IMEX integrators, imex1 and imex3 to imex5, have no such limit)";
   else
     s << "the stability estimate recommends dt <= " << estimate_.recommended_dt << " s (contact duration "
       << estimate_.contact_duration << " s, " << estimate_.shortest_pair << "; limit " << estimate_.dt_limit << " s"
