@@ -203,6 +203,9 @@ void ArkodeIntegrator::step() {
     grid_steps_ = 0;
   } else {
     ++grid_steps_;
+    // A fixed step's state is grid_steps_ steps of exactly dt from the grid's start: that is its
+    // time, not ARKODE's sum of the steps (which drifts, and used to put a frame one step late).
+    if (control_.rtol == 0) t_ = landing_ ? stop_ : grid_start_ + static_cast<double>(grid_steps_) * dt_;
   }
   if (system_->has_history()) {
     // The contact history of the accepted step comes from an evaluation at its end (the stages
@@ -220,9 +223,9 @@ void ArkodeIntegrator::evolve_one_step() {
     // Fixed steps: ARKODE sums its steps into t, so after many steps its t is off the grid
     // grid_start_ + k dt by their round-off. Which step is the last is decided on the grid; that
     // step is taken from ARKODE's t to exactly the stop time (never a step of 1e-12 s after it).
-    const bool last = stop_ - (grid_start_ + static_cast<double>(grid_steps_) * dt_) <= dt_ * (1 + 1e-9);
-    check(ARKStepSetStopTime(memory_, last ? stop_ : std::numeric_limits<double>::max()), "SetStopTime");
-    if (last) check(ARKStepSetFixedStep(memory_, stop_ - t_), "SetFixedStep");
+    landing_ = stop_ - (grid_start_ + static_cast<double>(grid_steps_) * dt_) <= dt_ * (1 + 1e-9);
+    check(ARKStepSetStopTime(memory_, landing_ ? stop_ : std::numeric_limits<double>::max()), "SetStopTime");
+    if (landing_) check(ARKStepSetFixedStep(memory_, stop_ - t_), "SetFixedStep");
   }
   double reached = t_;
   const int flag = ARKStepEvolve(memory_, stop_, state_, &reached, ARK_ONE_STEP);

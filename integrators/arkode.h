@@ -54,6 +54,7 @@ class ArkodeIntegrator final : public Integrator {
   double t_ = 0, dt_ = 0, stop_ = INFINITY;
   double grid_start_ = 0;  // fixed steps: t = grid_start_ + grid_steps_ dt, exactly
   long grid_steps_ = 0;
+  bool landing_ = false;   // the step being taken is the last, onto the stop time
   SUNContext context_ = nullptr;
   N_Vector state_ = nullptr;
   void* memory_ = nullptr;

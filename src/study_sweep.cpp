@@ -67,10 +67,11 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   if (base.thermal) out["estimate"]["thermal_dt_limit"] = est.thermal_dt_limit;
   // The limit that binds: conduction's alone on a frozen scene, the smaller of the two on a
   // thermal scene that moves, the contacts' otherwise.
-  const bool conduction_binds = base.thermal && (base.frozen || o.heat_stage || est.thermal_dt_limit < est.dt_limit);
-  // Conduction's limit is 2 / lambda_max times the integrator's reach on the negative real axis / 2.
-  const double limit =
-      conduction_binds ? real_stability_of(o.integrator) / 2 * est.thermal_dt_limit : est.dt_limit;
+  // Conduction's limit is 2 / lambda_max times the integrator's reach on the negative real axis / 2
+  // (none for IMEX, whose moving scenes are then bound by their contacts).
+  const double conduction_limit = real_stability_of(o.integrator) / 2 * est.thermal_dt_limit;
+  const bool conduction_binds = base.thermal && (base.frozen || o.heat_stage || conduction_limit < est.dt_limit);
+  const double limit = conduction_binds ? conduction_limit : est.dt_limit;
   const char* limit_kind = conduction_binds ? "explicit conduction" : "contacts";
   out["estimate"]["binding_limit"] = limit;
   std::ostringstream csv, table;
