@@ -152,6 +152,7 @@ void ArkodeIntegrator::step() {
     ARKStepGetCurrentStep(memory_, &h);
     const double bound = system_->neighbour_step_bound(y_);
     check(ARKStepSetMaxStep(memory_, std::isfinite(bound) ? bound : 0.0), "SetMaxStep");
+    skin_capped_ += bound < h;  // the step the tolerance wanted is longer than the lists allow
     h = std::min(h, bound);
   }
   system_->prepare(t_, y_, h);
@@ -311,7 +312,8 @@ nlohmann::json ArkodeIntegrator::statistics() const {
                           {"newton_iterations", newton},
                           {"last_step", last},
                           {"contact_events", events_located_},
-                          {"neighbour_redos", neighbour_redos_}};
+                          {"neighbour_redos", neighbour_redos_},
+                          {"steps_capped_by_skin", skin_capped_}};
   if (implicit_solver_) stats.update(implicit_solver_->statistics());
   return stats;
 }
