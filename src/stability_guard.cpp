@@ -72,8 +72,8 @@ void StabilityGuard::temperatures(double t, const double* y) {
   // |R(z)| <= 1: what a stable run shows beyond the range is modes of either sign adding up,
   // measured at most 2.7 % of the range (P1 under imex4 at 6 times the explicit limit; erk3 and
   // erk4 just below their own limits on F1, 0.6 % and 0.3 %). An inexact implicit solve can throw
-  // a step or two beyond the whole range, which the next steps damp (F1, imex4, dt 0.43, GMRES
-  // limited to five Krylov vectors: 1.19 widths, then 0.57, 0.06). Growth keeps rising, by |R| > 1
+  // a step or two beyond the whole range, which the next steps damp (F1, imex4, dt 0.43, with the
+  // SPGMR kiln used before, five Krylov vectors: 1.19 widths, then 0.57, 0.06). Growth keeps rising, by |R| > 1
   // per step (forward Euler at 3.5 times its limit: 6). So the run stops when the excursion
   // exceeds a tenth of the width at two successive checks and has grown between them, or at the
   // run's last check, after which nothing can show it shrink; anything less is an accuracy figure.
