@@ -179,6 +179,20 @@ DtVerdict judge_dt(const StabilityEstimate& est, double dt, const Scene& scene) 
     v.warnings.push_back(w.str());
   }
   if (scene.frozen) return v;  // no mechanics to judge
+  // A step that carries a disc past another body by more than the smallest radius can jump over the
+  // whole overlap band (2 r wide) without one evaluation inside it: the contact is never seen.
+  double r_min = INFINITY;
+  for (double r : scene.radius) r_min = std::min(r_min, r);
+  const ImpactSpeeds speeds = impact_speeds(scene);
+  const double approach = scene.n_particles() > 1 ? speeds.pair : speeds.wall;
+  if (dt * approach > r_min) {
+    s << "dt x impact speed = " << dt << " s x " << approach << " m/s = " << dt * approach
+      << " m is more than the smallest radius (" << r_min << " m): a disc can pass through a wall or another disc "
+      << "between two steps; lower dt below " << r_min / approach << " s";
+    v.unstable = true;
+    v.warnings.push_back(s.str());
+    return v;
+  }
   if (dt >= est.dt_limit) {
     s << "dt = " << dt << " s is beyond the stability limit " << est.dt_limit
       << " s of the stiffest contact: the run will blow up";

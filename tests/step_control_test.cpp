@@ -7,6 +7,7 @@
 #include "src/error.h"
 #include "src/scene_yaml.h"
 #include "src/simulation.h"
+#include "src/stability.h"
 #include "tests/support.h"
 
 using namespace kiln;
@@ -152,4 +153,32 @@ TEST_CASE("a frozen heating stage reports the integrator and step it ran with", 
   CHECK(heat["integrator"] == "imex4");
   CHECK(heat["dt"].get<double>() == 450);
   CHECK(heat["step_size"]["max"].get<double>() == Approx(450));
+}
+
+TEST_CASE("a step that carries a disc past a wall's overlap band is refused: 100 m/s at dt 1e-4 s", "[step_control]") {
+  // A 2 mm disc at 100 m/s towards a floor: one step moves it 10 mm, more than its diameter, and it
+  // jumped over the floor without ever touching it (exit 0). dt x impact speed must stay below the
+  // smallest radius.
+  const Scene scene = parse_scene(R"(name: fast_disc_tunnel
+mass_model: sphere
+gravity: [0, -9.81]
+materials:
+  glass: {density: 2500, stiffness: 2.0e4, restitution: 0.5}
+  plate: {stiffness: 2.0e4, restitution: 0.5}
+particles:
+  - material: glass
+    radius: 0.002
+    at: [[0.0, 0.0131]]
+    velocity: [0.0, -100.0]
+walls:
+  - {name: floor, material: plate, segment: [[-0.01, 0.0], [0.01, 0.0]]}
+dt: 1.0e-4
+t_end: 0.0005
+)",
+                                  "tunnel.yaml");
+  const DtVerdict verdict = judge_dt(estimate_stability(scene), scene.dt, scene);
+  REQUIRE(verdict.unstable);
+  CHECK(verdict.warnings.front().find("dt x impact speed") != std::string::npos);
+  CHECK(verdict.warnings.front().find("smallest radius (0.002 m)") != std::string::npos);
+  CHECK_FALSE(judge_dt(estimate_stability(scene), 1e-6, scene).unstable);
 }
