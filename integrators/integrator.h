@@ -44,6 +44,33 @@ struct DiffusionJacobian {
   std::vector<double> value;
   int flux = -1;               // the flux component, or -1
   std::vector<double> flux_row;  // n entries when flux >= 0
+
+  // Starts over (keeping capacity: no allocation once sized).
+  void reset(int first_component, const std::vector<double>& weights, int flux_component) {
+    first = first_component;
+    weight.assign(weights.begin(), weights.end());
+    row.clear();
+    col.clear();
+    value.clear();
+    flux = flux_component;
+    flux_row.assign(weights.size(), 0.0);
+  }
+  // A conductance h between block components i and j, or (j < 0) from i to the outside, whose
+  // flux the flux component integrates.
+  void add_link(int i, int j, double h) {
+    auto add = [&](int r, int c, double v) {
+      row.push_back(r);
+      col.push_back(c);
+      value.push_back(v);
+    };
+    add(i, i, h);
+    if (j >= 0) {
+      add(j, j, h);
+      add(std::max(i, j), std::min(i, j), -h);
+    } else {
+      flux_row[i] -= h;
+    }
+  }
 };
 
 struct StateLayout {

@@ -724,33 +724,13 @@ std::vector<double> DemSystem::absolute_tolerances(const StepControl& c) const {
 bool DemSystem::diffusion_jacobian(double t, const double* y, DiffusionJacobian& out) const {
   if (!thermal_) return false;
   const double *px = y + x_at(), *py = y + y_at();
-  out.first = temperature_at();
-  out.weight = capacity_;
-  out.row.clear();
-  out.col.clear();
-  out.value.clear();
-  out.flux = ledger_at() + ledger_heat_walls;
-  out.flux_row.assign(n_, 0.0);
-  auto add = [&](int r, int c, double v) {
-    out.row.push_back(r);
-    out.col.push_back(c);
-    out.value.push_back(v);
-  };
-  for (int p = 0, np = pp_.size(); p < np; ++p) {
-    const double h = pair_conductance(px, py, p);
-    if (h == 0) continue;
-    const int i = pp_.i[p], j = pp_.j[p];
-    add(i, i, h);
-    add(j, j, h);
-    add(std::max(i, j), std::min(i, j), -h);
-  }
+  out.reset(temperature_at(), capacity_, ledger_at() + ledger_heat_walls);
+  for (int p = 0, np = pp_.size(); p < np; ++p)
+    if (const double h = pair_conductance(px, py, p); h != 0) out.add_link(pp_.i[p], pp_.j[p], h);
   wall_geometry(t, event_a_, event_b_);
   for (int p = 0, np = pw_.size(); p < np; ++p) {
     int wall = 0;
-    const double h = wall_conductance(px, py, event_a_, event_b_, p, wall);
-    if (h == 0) continue;
-    add(pw_.i[p], pw_.i[p], h);
-    out.flux_row[pw_.i[p]] -= h;
+    if (const double h = wall_conductance(px, py, event_a_, event_b_, p, wall); h != 0) out.add_link(pw_.i[p], -1, h);
   }
   return true;
 }

@@ -8,6 +8,7 @@ FrozenConduction::FrozenConduction(std::vector<ConductanceLink> links, std::vect
                                    std::vector<WallTemperature> walls, int ledger_entries)
     : links_(std::move(links)), walls_(std::move(walls)), ledger_(ledger_entries) {
   for (double c : capacity) inv_capacity_.push_back(1 / c);
+  capacity_ = std::move(capacity);
 }
 
 void FrozenConduction::conduct(double t, const double* temp, double* zdot, bool walls) const {
@@ -32,30 +33,8 @@ void FrozenConduction::conduct(double t, const double* temp, double* zdot, bool 
 }
 
 bool FrozenConduction::diffusion_jacobian(double, const double*, DiffusionJacobian& out) const {
-  const int n = static_cast<int>(inv_capacity_.size());
-  out.first = ledger_;
-  out.weight.resize(n);
-  for (int i = 0; i < n; ++i) out.weight[i] = 1 / inv_capacity_[i];
-  out.row.clear();
-  out.col.clear();
-  out.value.clear();
-  out.flux = ledger_heat_walls;
-  out.flux_row.assign(n, 0.0);
-  for (const ConductanceLink& link : links_) {
-    out.row.push_back(link.i);
-    out.col.push_back(link.i);
-    out.value.push_back(link.h);
-    if (link.j >= 0) {
-      out.row.push_back(link.j);
-      out.col.push_back(link.j);
-      out.value.push_back(link.h);
-      out.row.push_back(std::max(link.i, link.j));
-      out.col.push_back(std::min(link.i, link.j));
-      out.value.push_back(-link.h);
-    } else {
-      out.flux_row[link.i] -= link.h;
-    }
-  }
+  out.reset(ledger_, capacity_, ledger_heat_walls);
+  for (const ConductanceLink& link : links_) out.add_link(link.i, link.j, link.h);  // wall links have j < 0
   return true;
 }
 

@@ -46,7 +46,7 @@ class FrozenConduction final : public OdeSystem {
   // zdot from the temperatures `temp`; walls at their temperatures, or at 0 for the Jacobian.
   void conduct(double t, const double* temp, double* zdot, bool walls) const;
   std::vector<ConductanceLink> links_;
-  std::vector<double> inv_capacity_;
+  std::vector<double> capacity_, inv_capacity_;  // m c_p (J/K) and its inverse (the rates' factor)
   std::vector<WallTemperature> walls_;
   int ledger_;
 };
