@@ -1,6 +1,9 @@
 // Restitution <-> dashpot coefficient for the normal laws (see normal_force.h).
 #include <algorithm>
 #include <cmath>
+#include <map>
+#include <mutex>
+#include <tuple>
 
 #include "contact/normal_force.h"
 
@@ -18,6 +21,14 @@ double accel(double u, double w, double beta, bool hertz, bool tension) {
   const double f = spring + dash;
   return (!tension && f < 0) ? 0.0 : -f;
 }
+
+// Dimensionless elastic energy of the spring at overlap u > 0 (u^2 / 2, Hertz 2/5 u^(5/2)).
+double spring_energy(double u, bool hertz) { return hertz ? 0.4 * u * u * std::sqrt(u) : 0.5 * u * u; }
+
+// A contact whose energy has fallen below this can only end with e < 1e-4 (it starts at 1/2 and
+// the dashpot only takes energy out): a hundred times below the least restitution a scene may give,
+// so it is called inelastic at once instead of followed while an overdamped dashpot creeps apart.
+constexpr double inelastic_energy = 0.5e-8;
 
 }  // namespace
 
@@ -55,6 +66,7 @@ double restitution_for_damping(double beta, bool hertz, bool tension) {
       return -hermite(s, w, h * a, wn, h * an);
     }
     if (wn >= 0 && un > 0 && w < 0) return 0;  // came to rest in contact: fully inelastic
+    if (un > 0 && 0.5 * wn * wn + spring_energy(un, hertz) < inelastic_energy) return 0;
     u = un;
     w = wn;
     a = accel(u, w, beta, hertz, tension);
@@ -62,20 +74,47 @@ double restitution_for_damping(double beta, bool hertz, bool tension) {
   return 0;
 }
 
+namespace {
+
+// Restitution falls monotonically with beta: bracket by doubling, then bisect. Scenes give
+// e >= 0.01 (scene_yaml.cpp), which every law reaches below beta = 16; the bracket stops at
+// beta = 1024 (e about 1e-4 without tension, 0 with it), so that no e, however small, makes it grow
+// without end, and the bisection stops after 60 halvings.
+double bisect_damping(double e, bool hertz, bool tension) {
+  double lo = 0, hi = 1;
+  for (int doubling = 0; doubling < 10 && restitution_for_damping(hi, hertz, tension) > e; ++doubling) {
+    lo = hi;
+    hi *= 2;
+  }
+  for (int it = 0; it < 60 && hi - lo > 1e-10 * hi; ++it) {
+    const double mid = 0.5 * (lo + hi);
+    (restitution_for_damping(mid, hertz, tension) > e ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+}  // namespace
+
 double restitution_damping(double e, bool hertz, bool tension) {
   if (e >= 1) return 0;
   if (!hertz && tension) {
     const double l = std::log(e);
     return -2 * l / std::sqrt(M_PI * M_PI + l * l);
   }
-  // Restitution falls monotonically with beta: bisect.
-  double lo = 0, hi = 1;
-  while (restitution_for_damping(hi, hertz, tension) > e) hi *= 2;
-  for (int it = 0; it < 60 && hi - lo > 1e-10 * hi; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    (restitution_for_damping(mid, hertz, tension) > e ? lo : hi) = mid;
+  // A bisection costs up to a fifth of a second, and every pair law of every system built (each run
+  // of a study, each wall in the stability estimate) asks again: the answers are kept.
+  static std::mutex mutex;
+  static std::map<std::tuple<double, bool, bool>, double> known;
+  const auto key = std::make_tuple(e, hertz, tension);
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    if (const auto it = known.find(key); it != known.end()) return it->second;
   }
-  return 0.5 * (lo + hi);
+  const double beta = bisect_damping(e, hertz, tension);
+  const std::lock_guard<std::mutex> lock(mutex);
+  if (known.size() >= 4096) known.clear();  // a process that meets ever new restitutions keeps the recent ones
+  known[key] = beta;
+  return beta;
 }
 
 }  // namespace kiln::contact

@@ -70,9 +70,33 @@ int ArkodeIntegrator::implicit_rhs(double t, N_Vector y, N_Vector ydot, void* p)
 }
 
 void ArkodeIntegrator::start(OdeSystem& system, double t0, double* y, double dt) {
+  t_ = grid_start_ = t0;
+  grid_steps_ = 0;
+  create(system, t0, y, dt, dt);
+}
+
+void ArkodeIntegrator::save(Snapshot& s, const std::string& p) const {
+  double t_arkode = t_, h = dt_;
+  ARKStepGetCurrentTime(memory_, &t_arkode);
+  ARKStepGetCurrentStep(memory_, &h);
+  s.put(p + "time", {t_, grid_start_, t_arkode, h});
+  s.put_integer(p + "grid_steps", grid_steps_);
+}
+
+// ARKODE is created anew at the saved state and at its own saved time, so that the stage times it
+// passes to the right-hand side are those of the run that saved (fixed steps: bit for bit; its
+// first evaluation there is the one that run made at the end of its step).
+void ArkodeIntegrator::resume(OdeSystem& system, double* y, double dt, const Snapshot& s, const std::string& p) {
+  const std::vector<double>& time = s.reals(p + "time");
+  t_ = time.at(0);
+  grid_start_ = time.at(1);
+  grid_steps_ = s.integer(p + "grid_steps");
+  create(system, time.at(2), y, dt, control_.rtol > 0 ? time.at(3) : dt);
+}
+
+void ArkodeIntegrator::create(OdeSystem& system, double t0, double* y, double dt, double h) {
   system_ = &system;
   y_ = y;
-  t_ = grid_start_ = t0;
   dt_ = dt;
   const int n = system.layout().size();
   scratch_.assign(n, 0.0);
@@ -83,7 +107,7 @@ void ArkodeIntegrator::start(OdeSystem& system, double t0, double* y, double dt)
   // f = f_E + 0: the additive method reduces to its explicit table, which is what runs.
   implicit_ = !method_.dirk_table.empty() && system.has_implicit_part();
   const bool imex = implicit_;
-  system.prepare(t0, y, dt);
+  system.prepare(t_, y, dt);
   memory_ = ARKStepCreate(explicit_rhs, imex ? implicit_rhs : nullptr, t0, state_, context_);
   if (!memory_) throw std::runtime_error("ARKODE: ARKStepCreate failed");
   check(ARKStepSetUserData(memory_, this), "SetUserData");
@@ -109,7 +133,7 @@ void ArkodeIntegrator::start(OdeSystem& system, double t0, double* y, double dt)
   check(ARKStepSVtolerances(memory_, tol.rtol, atol_vector), "SVtolerances");
   N_VDestroy(atol_vector);
   if (adaptive) {
-    check(ARKStepSetInitStep(memory_, dt), "SetInitStep");
+    check(ARKStepSetInitStep(memory_, h), "SetInitStep");
   } else {
     check(ARKStepSetFixedStep(memory_, dt), "SetFixedStep");
   }
@@ -224,7 +248,13 @@ void ArkodeIntegrator::evolve_one_step() {
     // Fixed steps: ARKODE sums its steps into t, so after many steps its t is off the grid
     // grid_start_ + k dt by their round-off. Which step is the last is decided on the grid; that
     // step is taken from ARKODE's t to exactly the stop time (never a step of 1e-12 s after it).
-    landing_ = stop_ - (grid_start_ + static_cast<double>(grid_steps_) * dt_) <= dt_ * (1 + 1e-9);
+    // A stop time that is the next grid time itself is reached by a whole step of dt (a stop time
+    // would cut it to ARKODE's drifted t): a run that ends on the grid takes the steps a longer run
+    // takes through it, so that resuming it continues bit for bit. Otherwise the last step is the
+    // remainder, ending exactly on the stop time (a truncated dt such as 0.00806451612903 for
+    // 0.5/62 leaves 1.6e-13 s, which a fifth-order table on F1 measures).
+    const double remainder = stop_ - (grid_start_ + static_cast<double>(grid_steps_) * dt_);
+    landing_ = remainder <= dt_ * (1 + 1e-9) && grid_start_ + static_cast<double>(grid_steps_ + 1) * dt_ != stop_;
     check(ARKStepSetStopTime(memory_, landing_ ? stop_ : std::numeric_limits<double>::max()), "SetStopTime");
     if (landing_) check(ARKStepSetFixedStep(memory_, stop_ - t_), "SetFixedStep");
   }
@@ -234,7 +264,10 @@ void ArkodeIntegrator::evolve_one_step() {
     char* name = ARKStepGetReturnFlagName(flag);
     const std::string text = name ? name : "unknown";
     free(name);
-    throw std::runtime_error("ARKODE step failed at t = " + std::to_string(t_) + ": " + text);
+    // The method could not take a step (error test or Newton failures at the smallest step):
+    // the run cannot go on, as with a failed stability check.
+    throw InstabilityError("ARKODE step failed at t = " + std::to_string(t_) + " s: " + text +
+                           "; lower dt (or rtol), or see kiln check for the step the estimate recommends");
   }
   t_ = reached;
 }

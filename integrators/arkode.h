@@ -37,10 +37,15 @@ class ArkodeIntegrator final : public Integrator {
   double time() const override { return t_; }
   void set_stop_time(double t) override;
   nlohmann::json statistics() const override;
+  void save(Snapshot& s, const std::string& prefix) const override;
+  void resume(OdeSystem& system, double* y, double dt, const Snapshot& s, const std::string& prefix) override;
 
  private:
   static int explicit_rhs(double t, N_Vector y, N_Vector ydot, void* self);
   static int implicit_rhs(double t, N_Vector y, N_Vector ydot, void* self);
+  // Binds the system and state and creates ARKODE at its time `t_arkode` (the run's time t_ may
+  // differ from it by the round-off of ARKODE's summed steps), first step `h`.
+  void create(OdeSystem& system, double t_arkode, double* y, double dt, double h);
   void refresh_stats();
   void evolve_one_step();
   bool locate_event(double t_start);
@@ -54,7 +59,7 @@ class ArkodeIntegrator final : public Integrator {
   double t_ = 0, dt_ = 0, stop_ = INFINITY;
   double grid_start_ = 0;  // fixed steps: t = grid_start_ + grid_steps_ dt, exactly
   long grid_steps_ = 0;
-  bool landing_ = false;   // the step being taken is the last, onto the stop time
+  bool landing_ = false;   // the step being taken is the last, onto a stop time off the grid
   SUNContext context_ = nullptr;
   N_Vector state_ = nullptr;
   void* memory_ = nullptr;

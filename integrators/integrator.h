@@ -10,6 +10,8 @@
 #include <string>
 #include <vector>
 
+#include "src/snapshot.h"
+
 namespace kiln {
 
 // Step-size control. rtol > 0 makes adaptive integrators adapt (starting from dt); fixed-step
@@ -157,6 +159,13 @@ class Integrator {
   // Adaptive integrators do not step past this time (an output frame, the end).
   virtual void set_stop_time(double) {}
   const IntegratorStats& stats() const { return stats_; }
+  // Checkpoints. save() writes, under keys starting with `prefix`, what the scheme carries from
+  // one step to the next; resume() binds the system and the live state as start() does, but takes
+  // that from the snapshot instead of evaluating anything, so that the steps which follow are
+  // those the saving run would have taken (bit for bit with fixed steps; an adaptive ARKODE run
+  // goes on from its last step size, with a fresh error-controller history).
+  virtual void save(Snapshot& s, const std::string& prefix) const = 0;
+  virtual void resume(OdeSystem& system, double* y, double dt, const Snapshot& s, const std::string& prefix) = 0;
   // Everything the integrator counted, for summary.json's integrator_stats.
   virtual nlohmann::json statistics() const { return {{"steps", stats_.steps}, {"rhs_evals", stats_.rhs_evals}}; }
 

@@ -132,6 +132,10 @@ const std::vector<IntegratorInfo>& integrator_catalogue() {
 }
 
 std::unique_ptr<Integrator> make_integrator(const std::string& typed, const StepControl& control) {
+  // Names are short words: a longer text is no misspelling of one, and is not echoed whole.
+  if (typed.size() > 100)
+    throw InputError("an integrator name of " + std::to_string(typed.size()) +
+                     " characters; the names are short words (see 'kiln integrators')");
   std::string name = typed;
   for (const auto& [alias, target] : aliases)
     if (name == alias) name = target;

@@ -4,8 +4,10 @@
 
 namespace kiln {
 
-void VelocityVerlet::start(OdeSystem& system, double t0, double* y, double dt) {
-  bind(system, t0, y, dt);
+void VelocityVerlet::start(OdeSystem& system, double t0, double* y, double dt) { bind(system, t0, y, dt); }
+
+void VelocityVerlet::start_without_evaluating(OdeSystem& system, double* y, double dt) {
+  VerletFamily::start_without_evaluating(system, y, dt);
   v_half_.assign(layout_.nq, 0);
   z_old_.assign(layout_.nz, 0);
   zrate_old_.assign(layout_.nz, 0);

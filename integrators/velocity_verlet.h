@@ -20,6 +20,8 @@ class VelocityVerlet final : public VerletFamily {
   void step() override;
 
  private:
+  void start_without_evaluating(OdeSystem& system, double* y, double dt) override;
+  // Nothing carried beyond the shared state: v_{n+1/2} and the z scratch are rebuilt every step.
   bool predicted_;
   std::vector<double> v_half_;
   std::vector<double> z_old_, zrate_old_;

@@ -4,13 +4,17 @@
 
 namespace kiln {
 
+void BasicVerlet::start_without_evaluating(OdeSystem& system, double* y, double dt) {
+  VerletFamily::start_without_evaluating(system, y, dt);
+  ahead_.assign(layout_.nq, 0);
+  eval_.assign(layout_.size(), 0);
+  zrate_.assign(layout_.nz, 0);
+  z_before_.assign(layout_.nz, 0);
+}
+
 void BasicVerlet::start(OdeSystem& system, double t0, double* y, double dt) {
   bind(system, t0, y, dt);
   const int nq = layout_.nq, nz = layout_.nz;
-  ahead_.assign(nq, 0);
-  eval_.assign(layout_.size(), 0);
-  zrate_.assign(nz, 0);
-  z_before_.assign(nz, 0);
   const double* a = accel();
   for (int k = 0; k < nq; ++k) ahead_[k] = y[k] + dt * y[nq + k] + 0.5 * dt * dt * a[k];  // II.20
   std::copy_n(zrate(), nz, zrate_.data());

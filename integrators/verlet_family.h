@@ -13,11 +13,35 @@ class VerletFamily : public Integrator {
  public:
   double time() const override { return t_; }
   void set_stop_time(double t) override { stop_ = t; }
+  void save(Snapshot& s, const std::string& p) const override {
+    s.put(p + "time", {t_, t0_, dt_});
+    s.put_integer(p + "count", count_);
+    s.put(p + "rate", rate_);
+    s.put(p + "work_force", work_force_);
+    s.put(p + "work_force_old", work_force_old_);
+    s.put(p + "work_rest", work_rest_);
+    s.put(p + "work_rest_old", work_rest_old_);
+    save_carried(s, p);
+  }
+  void resume(OdeSystem& system, double* y, double dt, const Snapshot& s, const std::string& p) override {
+    start_without_evaluating(system, y, dt);
+    const std::vector<double>& time = s.reals(p + "time");
+    t_ = time.at(0);
+    t0_ = time.at(1);
+    count_ = s.integer(p + "count");
+    stats_.last_step = dt_;
+    rate_ = s.reals(p + "rate");
+    work_force_ = s.reals(p + "work_force");
+    work_force_old_ = s.reals(p + "work_force_old");
+    work_rest_ = s.reals(p + "work_rest");
+    work_rest_old_ = s.reals(p + "work_rest_old");
+    resume_carried(s, p);
+  }
 
  protected:
   // t_n = t_0 + n dt: no drift from summing dt. The step that would pass the stop time ends on it
   // instead (a run's last step, when t_end is not a multiple of dt; within 1e-9 dt it is a whole
-  // step of dt that lands there).
+  // step of dt that lands there: when t_end is on the grid, the step a longer run takes there).
   bool lands_on_stop() const { return t0_ + static_cast<double>(count_ + 1) * dt_ > stop_ - 1e-9 * dt_; }
   double next_time() const { return lands_on_stop() ? stop_ : t0_ + static_cast<double>(count_ + 1) * dt_; }
   // The length of the step about to be taken: dt, or the shorter remainder to the stop time.
@@ -29,12 +53,14 @@ class VerletFamily : public Integrator {
     ++count_;
   }
 
-  // Binds the system and the live state, and evaluates f(t0, y) into rate_.
-  void bind(OdeSystem& system, double t0, double* y, double dt) {
+  // What a scheme of the family carries between steps beyond the shared state (for checkpoints).
+  virtual void save_carried(Snapshot&, const std::string&) const {}
+  virtual void resume_carried(const Snapshot&, const std::string&) {}
+  // Binds the system and the live state and sizes every array (start() and resume()).
+  virtual void start_without_evaluating(OdeSystem& system, double* y, double dt) {
     system_ = &system;
     layout_ = system.layout();
     y_ = y;
-    t_ = t0_ = t0;
     count_ = 0;
     dt_ = dt;
     rate_.assign(layout_.size(), 0);
@@ -44,6 +70,11 @@ class VerletFamily : public Integrator {
     work_force_old_ = work_force_;
     work_rest_.assign(works_, 0.0);
     work_rest_old_ = work_rest_;
+  }
+  // Binds the system and the live state, and evaluates f(t0, y) into rate_.
+  void bind(OdeSystem& system, double t0, double* y, double dt) {
+    start_without_evaluating(system, y, dt);
+    t_ = t0_ = t0;
     evaluate(t0, y, dt);
     work_force_old_ = work_force_;
     work_rest_old_ = work_rest_;

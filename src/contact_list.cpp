@@ -38,4 +38,53 @@ void ContactList::replace(const std::vector<CandidatePair>& fresh) {
   law.resize(n);
 }
 
+namespace {
+
+std::vector<double> flatten(const std::vector<contact::ContactFrame>& frames) {
+  std::vector<double> v;
+  v.reserve(4 * frames.size());
+  for (const auto& f : frames) v.insert(v.end(), {f.nx, f.ny, f.rho_t, f.rho_n});
+  return v;
+}
+
+std::vector<contact::ContactFrame> unflatten(const std::vector<double>& v) {
+  std::vector<contact::ContactFrame> frames(v.size() / 4);
+  for (size_t p = 0; p < frames.size(); ++p) frames[p] = {v[4 * p], v[4 * p + 1], v[4 * p + 2], v[4 * p + 3]};
+  return frames;
+}
+
+}  // namespace
+
+void ContactList::save(Snapshot& s, const std::string& p) const {
+  s.put_integers(p + "i", i);
+  s.put_integers(p + "j", j);
+  s.put_integers(p + "law", law);
+  s.put_integers(p + "active", active);
+  s.put(p + "k", k);
+  s.put(p + "c", c);
+  if (!history) return;
+  s.put(p + "spring", spring);
+  s.put(p + "trial", trial);
+  s.put(p + "roll", roll);
+  s.put(p + "trial_roll", trial_roll);
+  s.put(p + "frame", flatten(frame));
+  s.put(p + "trial_frame", flatten(trial_frame));
+}
+
+void ContactList::restore(const Snapshot& s, const std::string& p) {
+  s.get_integers(p + "i", i);
+  s.get_integers(p + "j", j);
+  s.get_integers(p + "law", law);
+  s.get_integers(p + "active", active);
+  k = s.reals(p + "k");
+  c = s.reals(p + "c");
+  if (!history) return;
+  spring = s.reals(p + "spring");
+  trial = s.reals(p + "trial");
+  roll = s.reals(p + "roll");
+  trial_roll = s.reals(p + "trial_roll");
+  frame = unflatten(s.reals(p + "frame"));
+  trial_frame = unflatten(s.reals(p + "trial_frame"));
+}
+
 }  // namespace kiln

@@ -8,6 +8,7 @@
 
 #include "contact/contact_frame.h"
 #include "src/broadphase.h"
+#include "src/snapshot.h"
 
 namespace kiln {
 
@@ -27,6 +28,9 @@ struct ContactList {
   int size() const { return static_cast<int>(i.size()); }
   // Takes the sorted candidate pairs; pairs present before keep their committed history.
   void replace(const std::vector<CandidatePair>& fresh);
+  // Checkpoints: the pairs, their coefficients and their history, under keys starting with `prefix`.
+  void save(Snapshot& s, const std::string& prefix) const;
+  void restore(const Snapshot& s, const std::string& prefix);
   void commit() {
     spring.swap(trial);
     roll.swap(trial_roll);

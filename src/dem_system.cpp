@@ -6,6 +6,7 @@
 
 #include "contact/normal_force.h"
 #include "contact/tangential_force.h"
+#include "src/error.h"
 #include "src/wall_geometry.h"
 
 namespace kiln {
@@ -270,6 +271,41 @@ void DemSystem::set_coefficients(ContactList& list, bool walls) {
     list.k[p] = k;
     list.c[p] = c;
   }
+}
+
+void DemSystem::save(Snapshot& s) const {
+  pp_.save(s, "system.pairs.");
+  pw_.save(s, "system.walls.");
+  s.put("system.reference_x", x_ref_);
+  s.put("system.reference_y", y_ref_);
+  s.put("system.times", {t_ref_, committed_time_, trial_time_, broadphase_.skin(), max_overlap_fraction_});
+  s.put_integers("system.counts", std::vector<long>{built_ ? 1 : 0, rebuilds_});
+  s.put("system.committed_angle", committed_angle_);
+  s.put("system.trial_angle", trial_angle_);
+  s.put("system.work_force", work_force_);
+}
+
+// The Box2D tree is not restored: the candidate pairs are kept as saved, and the next rebuild's
+// pairs are those of an exact test in double precision on whatever the tree reports (a superset).
+void DemSystem::restore(const Snapshot& s) {
+  pp_.restore(s, "system.pairs.");
+  pw_.restore(s, "system.walls.");
+  x_ref_ = s.reals("system.reference_x");
+  y_ref_ = s.reals("system.reference_y");
+  const std::vector<double>& times = s.reals("system.times");
+  t_ref_ = times.at(0);
+  committed_time_ = times.at(1);
+  trial_time_ = times.at(2);
+  broadphase_.set_skin(times.at(3));
+  max_overlap_fraction_ = times.at(4);
+  const std::vector<long long>& counts = s.integers("system.counts");
+  built_ = counts.at(0) != 0;
+  rebuilds_ = counts.at(1);
+  committed_angle_ = s.reals("system.committed_angle");
+  trial_angle_ = s.reals("system.trial_angle");
+  work_force_ = s.reals("system.work_force");
+  if (static_cast<int>(x_ref_.size()) != n_ || pp_.k.size() != pp_.i.size() || pw_.k.size() != pw_.i.size())
+    throw InputError("the checkpoint's contact lists do not fit this scene's " + std::to_string(n_) + " particles");
 }
 
 void DemSystem::accept(double) {

@@ -29,6 +29,31 @@ class InputError : public std::runtime_error {
   Location location;
 };
 
+// An output that could not be written (a full disk, no permission): names the file and the cause.
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A study in which every run failed: nothing to report (its files, showing the failures, are written).
+class StudyError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// The exit status of every kiln command (README "Exit codes"); main() maps each error to one.
+enum ExitCode {
+  exit_success = 0,
+  exit_refused = 1,       // dt beyond the estimated stability limit or the step-count limit (--force runs it)
+  exit_bad_input = 2,     // a scene, a checkpoint or an argument that cannot be used
+  exit_unstable = 3,      // a run stopped by a stability check
+  exit_output_failed = 4, // an output could not be written; nothing was published under a final name
+  exit_study_failed = 5,  // a study in which every run failed: no figure to report
+  exit_internal = 6,      // anything else: a defect of kiln's, please report it
+  exit_sigint = 130,      // stopped by SIGINT (128 + 2): outputs and a checkpoint written where it stopped
+  exit_sigterm = 143      // stopped by SIGTERM (128 + 15): likewise
+};
+
 // A simulation that went unstable: the message says which check failed, when, and what dt to use.
 class InstabilityError : public std::runtime_error {
  public:

@@ -2,11 +2,13 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <csignal>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <sstream>
 
 #include "integrators/integrator.h"
 #include "src/bench.h"
@@ -14,12 +16,28 @@
 #include "src/overrides.h"
 #include "src/scene_yaml.h"
 #include "src/simulation.h"
+#include "src/snapshot.h"
 #include "src/stability.h"
+#include "src/stop_signal.h"
 #include "src/study_order.h"
 #include "src/study_sweep.h"
 #include "src/study_wp.h"
 
 namespace {
+
+// A time, a step or a tolerance: a positive finite number. CLI11's PositiveNumber accepts "nan"
+// (which then was ignored) and states its range as 300 digits.
+const CLI::Validator positive_finite(
+    [](std::string& text) {
+      try {
+        size_t used = 0;
+        const double v = std::stod(text, &used);
+        if (used == text.size() && std::isfinite(v) && v > 0) return std::string();
+      } catch (const std::exception&) {
+      }
+      return "must be a positive finite number, got '" + text + "'";
+    },
+    "POSITIVE");
 
 struct SceneArgs {
   std::string path;
@@ -30,7 +48,7 @@ struct SceneArgs {
 };
 
 // Command-line options become --set overrides, so they pass through the same checks as the file.
-kiln::Scene load(const SceneArgs& a) {
+std::vector<std::string> overrides_of(const SceneArgs& a) {
   std::vector<std::string> sets = a.sets;
   if (!a.integrator.empty()) sets.push_back("integrator=" + a.integrator);
   if (a.dt > 0) sets.push_back(kiln::assignment("dt", a.dt));
@@ -38,20 +56,24 @@ kiln::Scene load(const SceneArgs& a) {
   if (a.rtol > 0) sets.push_back(kiln::assignment("rtol", a.rtol));
   if (a.atol > 0) sets.push_back(kiln::assignment("atol", a.atol));
   if (a.contact_events) sets.push_back("contact_events=true");
-  kiln::Scene scene = kiln::load_scene(a.path, sets);
+  return sets;
+}
+
+kiln::Scene load(const SceneArgs& a) {
+  kiln::Scene scene = kiln::load_scene(a.path, overrides_of(a));
   kiln::make_integrator(scene.integrator, scene.control);  // an unknown name fails before anything runs
   return scene;
 }
 
 void add_scene_options(CLI::App* cmd, SceneArgs& a) {
-  cmd->add_option("scene", a.path, "scene file (YAML)")->required()->check(CLI::ExistingFile);
+  cmd->add_option("scene", a.path, "scene file (YAML)")->check(CLI::ExistingFile);
   cmd->add_option("--integrator", a.integrator, "integrator name (see 'kiln integrators')");
-  cmd->add_option("--dt", a.dt, "time step (s)")->check(CLI::PositiveNumber);
-  cmd->add_option("--t-end", a.t_end, "end time (s)")->check(CLI::PositiveNumber);
+  cmd->add_option("--dt", a.dt, "time step (s)")->check(positive_finite);
+  cmd->add_option("--t-end", a.t_end, "end time (s)")->check(positive_finite);
   cmd->add_option("--rtol", a.rtol, "relative tolerance: adaptive steps from --dt (erk:/imex: methods)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_finite);
   cmd->add_option("--atol", a.atol, "absolute tolerance (per field: --set atol.temperature=...)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_finite);
   cmd->add_flag("--contact-events", a.contact_events,
                 "lock the acting contacts within a step, locate onsets and releases, restart there (ARKODE)");
   cmd->add_option("--set", a.sets, "override a scene value by dotted path: KEY=VALUE")->take_all();
@@ -62,9 +84,9 @@ template <class Options>
 CLI::App* add_study(CLI::App& app, const char* name, const char* summary, Options& o) {
   CLI::App* cmd = app.add_subcommand(name, summary);
   cmd->add_option("scene", o.scene, "scene file (YAML)")->required()->check(CLI::ExistingFile);
-  cmd->add_option("--t-end", o.t_end, "end time (s); default the scene's")->check(CLI::PositiveNumber);
+  cmd->add_option("--t-end", o.t_end, "end time (s); default the scene's")->check(positive_finite);
   cmd->add_option("--out", o.out_dir, std::string("output directory (default out/<scene name>/") + name + ")");
-  cmd->add_option("--threads", o.threads, "worker threads")->check(CLI::PositiveNumber);
+  cmd->add_option("--threads", o.threads, "worker threads")->check(CLI::Range(1, 1024));
   cmd->add_option("--set", o.sets, "override a scene value: KEY=VALUE")->take_all();
   cmd->add_flag("--quiet", o.quiet, "no table and no progress");
   cmd->add_flag("--heat-stage", o.heat_stage,
@@ -107,7 +129,7 @@ int check(const SceneArgs& a) {
   const kiln::DtVerdict verdict = kiln::judge_dt(est, scene.dt, scene);
   for (const std::string& w : verdict.warnings)
     std::fprintf(stderr, "%s: %s\n", verdict.unstable ? "error" : "warning", w.c_str());
-  return verdict.unstable ? 1 : 0;
+  return verdict.unstable ? kiln::exit_refused : kiln::exit_success;
 }
 
 // "N steps of dt s" for each stage the run took, saying where a step differed from dt: adaptive
@@ -141,31 +163,84 @@ std::string describe_steps(const nlohmann::json& stage, double dt, bool adaptive
   return described;
 }
 
-int run(const SceneArgs& a, std::string out, bool quiet, bool force) {
-  const kiln::Scene scene = load(a);
+struct RunArgs {
+  std::string out;
+  bool quiet = false, force = false;
+  double checkpoint_every = 0;
+  std::string restart;  // a checkpoint to go on from
+};
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in) throw kiln::InputError(path + ": cannot read the scene file");
+  return text.str();
+}
+
+// The summary line of a run that ended, or where a stopped one stopped and how to go on.
+void report_run(const kiln::Scene& scene, const nlohmann::json& s, const std::string& out, bool quiet) {
+  if (s["stopped_early"] == "signal") {
+    std::fprintf(stderr, "%s: stopped by %s at t = %.6g s after %ld steps; frames, summary and picture in %s/; "
+                 "go on with: kiln run --restart %s\n", scene.name.c_str(), s["stopped_by"].get<std::string>().c_str(),
+                 s["t_end"].get<double>(), s["steps"].get<long>(), out.c_str(), s["checkpoint"].get<std::string>().c_str());
+    return;
+  }
+  if (quiet) return;
+  const bool adaptive = scene.control.rtol > 0;
+  const nlohmann::json& stats = s["integrator_stats"];
+  std::string steps = describe_steps(stats, scene.dt, adaptive);
+  std::string integrators = scene.integrator;
+  if (stats.contains("heat_stage")) {
+    const std::string heat = stats["heat_stage"]["integrator"].get<std::string>();
+    steps += ", then " + describe_steps(stats["heat_stage"], scene.freeze.dt, adaptive) + " of frozen heating";
+    if (heat != scene.integrator) integrators += " (heating: " + heat + ")";
+  }
+  std::printf("%s: %s with %s, %.3g s wall (%.3g particle-steps/s); energy balance error %.3g J; "
+              "outputs in %s/\n",
+              scene.name.c_str(), steps.c_str(), integrators.c_str(), s["wall_seconds"].get<double>(),
+              s["particle_steps_per_second"].get<double>(), s["energy"]["balance_error"].get<double>(), out.c_str());
+}
+
+int run(const SceneArgs& a, const RunArgs& r) {
+  kiln::RunOptions options;
+  options.quiet = r.quiet;
+  options.checkpoint_every = r.checkpoint_every;
+  options.stop_on_signal = true;
+  kiln::Scene scene;
+  kiln::Snapshot checkpoint;
+  std::string out = r.out;
+  if (!r.restart.empty()) {
+    // The scene is the checkpoint's; only the end time may change (and the output options).
+    if (!a.integrator.empty() || a.dt > 0 || a.rtol > 0 || a.atol > 0 || a.contact_events || !a.sets.empty() || !out.empty())
+      throw kiln::InputError("--restart: the scene, its steps and its output directory are the checkpoint's; only "
+                             "--t-end, --checkpoint-every and --quiet may be given with it");
+    checkpoint = kiln::Snapshot::read(r.restart);
+    std::vector<std::string> sets;
+    if (a.t_end > 0) sets.push_back(kiln::assignment("t_end", a.t_end));
+    scene = kiln::scene_of_checkpoint(checkpoint, sets, options.source);
+    if (!a.path.empty() && read_text(a.path) != options.source.text)
+      throw kiln::InputError(r.restart + " is a checkpoint of scene file '" + options.source.file + "', not of '" +
+                             a.path + "' as it now reads: run the scene from the start, or restart without it");
+    out = std::filesystem::path(r.restart).parent_path().string();
+    if (out.empty()) out = ".";
+    options.resume = &checkpoint;
+  } else {
+    if (a.path.empty()) throw kiln::InputError("kiln run: give a scene file (or --restart CHECKPOINT)");
+    scene = load(a);
+    options.source = {a.path, read_text(a.path), overrides_of(a)};
+    if (out.empty()) out = "out/" + scene.name;
+  }
   const kiln::DtVerdict verdict = kiln::judge_dt(kiln::estimate_stability(scene), scene.dt, scene);
   for (const std::string& w : verdict.warnings)
-    std::fprintf(stderr, "%s: %s\n", verdict.unstable && !force ? "error" : "warning", w.c_str());
-  if (verdict.unstable && !force) return 1;
-  if (out.empty()) out = "out/" + scene.name;
-  const nlohmann::json s = kiln::run_scene(scene, {out, quiet});
-  if (!quiet) {
-    const bool adaptive = scene.control.rtol > 0;
-    const nlohmann::json& stats = s["integrator_stats"];
-    std::string steps = describe_steps(stats, scene.dt, adaptive);
-    std::string integrators = scene.integrator;
-    if (stats.contains("heat_stage")) {
-      const std::string heat = stats["heat_stage"]["integrator"].get<std::string>();
-      steps += ", then " + describe_steps(stats["heat_stage"], scene.freeze.dt, adaptive) + " of frozen heating";
-      if (heat != scene.integrator) integrators += " (heating: " + heat + ")";
-    }
-    std::printf("%s: %s with %s, %.3g s wall (%.3g particle-steps/s); energy balance error %.3g J; "
-                "outputs in %s/\n",
-                scene.name.c_str(), steps.c_str(), integrators.c_str(),
-                s["wall_seconds"].get<double>(), s["particle_steps_per_second"].get<double>(),
-                s["energy"]["balance_error"].get<double>(), out.c_str());
-  }
-  return 0;
+    std::fprintf(stderr, "%s: %s\n", verdict.unstable && !r.force ? "error" : "warning", w.c_str());
+  if (verdict.unstable && !r.force) return kiln::exit_refused;
+  options.out_dir = out;
+  kiln::catch_stop_signals();
+  const nlohmann::json s = kiln::run_scene(scene, options);
+  report_run(scene, s, out, r.quiet);
+  if (s["stopped_early"] == "signal") return kiln::stop_signal() == SIGINT ? kiln::exit_sigint : kiln::exit_sigterm;
+  return kiln::exit_success;
 }
 
 int list_cases() {
@@ -197,67 +272,75 @@ int main(int argc, char** argv) {
   CLI::App app{"kiln: 2D thermo-mechanical discrete element engine with swappable integrators"};
   app.require_subcommand(1);
   SceneArgs run_args, check_args;
-  std::string out;
-  bool quiet = false, force = false;
-  CLI::App* run_cmd = app.add_subcommand("run", "run a scene and write result.h5, result.xdmf, summary.json, picture.png");
+  RunArgs run_opts;
+  CLI::App* run_cmd = app.add_subcommand(
+      "run", "run a scene and write result.h5, result.xdmf, summary.json, picture.png, checkpoint.h5");
   add_scene_options(run_cmd, run_args);
-  run_cmd->add_option("--out", out, "output directory (default out/<scene name>)");
-  run_cmd->add_flag("--quiet", quiet, "no progress or summary line");
-  run_cmd->add_flag("--force", force, "run even when dt is beyond the estimated limit (to probe where it goes unstable)");
+  run_cmd->add_option("--out", run_opts.out, "output directory (default out/<scene name>)");
+  run_cmd->add_flag("--quiet", run_opts.quiet, "no progress or summary line");
+  run_cmd->add_flag("--force", run_opts.force,
+                    "run even when dt is beyond the estimated limit or the step count beyond its limit");
+  run_cmd->add_option("--checkpoint-every", run_opts.checkpoint_every,
+                      "write checkpoint.h5 every this many seconds of simulated time (always at the end and on "
+                      "SIGINT/SIGTERM)")
+      ->check(positive_finite);
+  run_cmd->add_option("--restart", run_opts.restart, "go on from DIR/checkpoint.h5, appending to DIR/result.h5")
+      ->check(CLI::ExistingFile);
   CLI::App* check_cmd = app.add_subcommand("check", "validate a scene and print its time-step estimates");
   add_scene_options(check_cmd, check_args);
+  check_cmd->get_option("scene")->required();
   CLI::App* cases_cmd = app.add_subcommand("cases", "list the shipped cases");
   CLI::App* integrators_cmd = app.add_subcommand("integrators", "list the integrators with their orders");
   kiln::BenchOptions bench;
   CLI::App* bench_cmd = app.add_subcommand("bench", "particle-steps per second on the benchmark pile (../shared/BENCH.md)");
   bench_cmd->add_option("--columns", bench.columns, "lattice columns: 50 rows x columns discs (20: 1,000; 200: 10,000)")
-      ->check(CLI::PositiveNumber);
-  bench_cmd->add_option("--steps", bench.steps, "timed steps")->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1, 4000));
+  bench_cmd->add_option("--steps", bench.steps, "timed steps")->check(CLI::Range(1, 100000000));
   bench_cmd->add_flag("--flowing", bench.flowing, "tilt gravity 30 degrees toward +x");
   kiln::OrderOptions order;
   CLI::App* order_cmd = add_study(app, "order", "observed orders of integrators on a scene (order.json, .csv, .png)", order);
   order_cmd->add_option("--integrators", order.integrators, "comma-separated names (see 'kiln integrators')")
       ->required()
       ->delimiter(',');
-  order_cmd->add_option("--dt", order.dt, "the coarsest step (s)")->required()->check(CLI::PositiveNumber);
+  order_cmd->add_option("--dt", order.dt, "the coarsest step (s)")->required()->check(positive_finite);
   order_cmd->add_option("--levels", order.levels, "number of step sizes")->check(CLI::Range(2, 30));
-  order_cmd->add_option("--ratio", order.ratio, "dt_{k+1} = dt_k / ratio (default 2)");
+  order_cmd->add_option("--ratio", order.ratio, "dt_{k+1} = dt_k / ratio (default 2)")->check(CLI::Range(1.01, 1000.0));
   order_cmd->add_option("--quantity", order.quantity,
                         "position, velocity, temperature or a case quantity (default: temperature on a frozen scene, "
                         "else position)");
   order_cmd->add_option("--reference", order.reference, "analytic | richardson | fine");
   order_cmd->add_option("--fine-rtol", order.fine_rtol, "tolerance of the fine reference (default 1e-11)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_finite);
   kiln::SweepOptions sweep;
   CLI::App* sweep_cmd =
       add_study(app, "sweep", "time-step sensitivity and stability boundary (sweep.json, .csv, .png)", sweep);
   sweep_cmd->add_option("--integrator", sweep.integrator, "integrator name")->required();
-  sweep_cmd->add_option("--dt-min", sweep.dt_min, "smallest step (s)")->required()->check(CLI::PositiveNumber);
-  sweep_cmd->add_option("--dt-max", sweep.dt_max, "largest step (s)")->required()->check(CLI::PositiveNumber);
+  sweep_cmd->add_option("--dt-min", sweep.dt_min, "smallest step (s)")->required()->check(positive_finite);
+  sweep_cmd->add_option("--dt-max", sweep.dt_max, "largest step (s)")->required()->check(positive_finite);
   sweep_cmd->add_option("--points", sweep.points, "steps, log-spaced")->check(CLI::Range(2, 200));
   sweep_cmd->add_option("--quantity", sweep.quantities, "quantities (default: the case's)")->take_all();
   kiln::WorkPrecisionOptions wp;
   CLI::App* wp_cmd = add_study(app, "wp", "work-precision: error against cost (wp.json, .csv, .png)", wp);
   wp_cmd->add_option("--integrators", wp.integrators, "comma-separated names")->required()->delimiter(',');
-  wp_cmd->add_option("--dts", wp.dts, "fixed steps (s)")->delimiter(',');
-  wp_cmd->add_option("--rtols", wp.rtols, "tolerances (adaptive)")->delimiter(',');
+  wp_cmd->add_option("--dts", wp.dts, "fixed steps (s)")->delimiter(',')->check(positive_finite);
+  wp_cmd->add_option("--rtols", wp.rtols, "tolerances (adaptive)")->delimiter(',')->check(positive_finite);
   wp_cmd->add_option("--quantity", wp.quantity,
                      "position, velocity, temperature or a case quantity (default: temperature on a frozen scene, "
                      "else position)");
   wp_cmd->add_option("--reference", wp.reference, "analytic | fine");
   wp_cmd->add_option("--fine-rtol", wp.fine_rtol, "tolerance of the fine reference (default 1e-11)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_finite);
   wp_cmd->add_option("--seeds", wp.seeds, "chaotic scenes: average a scalar over this many fills (noise floor shown)");
   wp_cmd->add_option("--seed-key", wp.seed_key, "the key --seeds varies (default particles.0.fill.seed)");
-  wp_cmd->add_option("--repeats", wp.repeats, "timed runs after a warm-up")->check(CLI::PositiveNumber);
+  wp_cmd->add_option("--repeats", wp.repeats, "timed runs after a warm-up")->check(CLI::Range(1, 1000));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    // --help and --version exit 0; a bad argument is bad input: the documented exit code 2.
-    return app.exit(e) == 0 ? 0 : 2;
+    // --help and --version exit 0; a bad argument is bad input.
+    return app.exit(e) == 0 ? kiln::exit_success : kiln::exit_bad_input;
   }
   try {
-    if (*run_cmd) return run(run_args, out, quiet, force);
+    if (*run_cmd) return run(run_args, run_opts);
     if (*check_cmd) return check(check_args);
     if (*cases_cmd) return list_cases();
     if (*integrators_cmd) return list_integrators();
@@ -270,27 +353,28 @@ int main(int argc, char** argv) {
     if (*order_cmd) {
       out_dir(order.out_dir, order.scene, order.sets, "order");
       kiln::run_order_study(order);
-      return 0;
-    }
-    if (*sweep_cmd) {
+    } else if (*sweep_cmd) {
       out_dir(sweep.out_dir, sweep.scene, sweep.sets, "sweep");
       kiln::run_sweep_study(sweep);
-      return 0;
-    }
-    if (*wp_cmd) {
+    } else if (*wp_cmd) {
       out_dir(wp.out_dir, wp.scene, wp.sets, "wp");
       kiln::run_work_precision(wp);
-      return 0;
     }
+    return kiln::exit_success;
   } catch (const kiln::InputError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
-    return 2;
+    return kiln::exit_bad_input;
   } catch (const kiln::InstabilityError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
-    return 3;
-  } catch (const std::exception& e) {
+    return kiln::exit_unstable;
+  } catch (const kiln::OutputError& e) {
+    std::fprintf(stderr, "error: %s (nothing was published under a final name)\n", e.what());
+    return kiln::exit_output_failed;
+  } catch (const kiln::StudyError& e) {
     std::fprintf(stderr, "error: %s\n", e.what());
-    return 1;
+    return kiln::exit_study_failed;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "error (internal, please report it): %s\n", e.what());
+    return kiln::exit_internal;
   }
-  return 0;
 }

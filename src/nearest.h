@@ -1,6 +1,7 @@
 // Suggestions for misspelt names: rank candidates by edit distance to what the user typed.
 #pragma once
 #include <algorithm>
+#include <numeric>
 #include <string>
 #include <vector>
 
@@ -22,14 +23,20 @@ inline int edit_distance(const std::string& a, const std::string& b) {
 }
 
 // "a, b or c", closest to `typed` first (all of them, so the user sees every valid choice).
-inline std::string choices_nearest_first(const std::string& typed, std::vector<std::string> valid) {
-  std::stable_sort(valid.begin(), valid.end(), [&](const std::string& x, const std::string& y) {
-    return edit_distance(typed, x) < edit_distance(typed, y);
-  });
+// The distance costs length(typed) x length(name): only the first 64 characters of what was
+// typed are compared (a text that long is no misspelling of a name), and each name's distance is
+// computed once, so that a megabyte typed by mistake is answered at once.
+inline std::string choices_nearest_first(const std::string& typed, const std::vector<std::string>& valid) {
+  const std::string probe = typed.substr(0, 64);
+  std::vector<int> distance;
+  for (const std::string& name : valid) distance.push_back(edit_distance(probe, name));
+  std::vector<size_t> order(valid.size());
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](size_t x, size_t y) { return distance[x] < distance[y]; });
   std::string s;
-  for (size_t i = 0; i < valid.size(); ++i) {
-    if (i > 0) s += (i + 1 == valid.size()) ? " or " : ", ";
-    s += "'" + valid[i] + "'";
+  for (size_t i = 0; i < order.size(); ++i) {
+    if (i > 0) s += (i + 1 == order.size()) ? " or " : ", ";
+    s += "'" + valid[order[i]] + "'";
   }
   return s;
 }

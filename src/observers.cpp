@@ -75,6 +75,21 @@ class BounceObserver final : public Observer {
     out["bounce_heights"] = heights_;
     out["contact_durations"] = durations_;
   }
+  void save(Snapshot& s, const std::string& p) const override {
+    s.put(p + "last", {last_gap_, last_t_, onset_, have_last_ ? 1.0 : 0.0, awaiting_apex_ ? 1.0 : 0.0});
+    s.put(p + "heights", heights_);
+    s.put(p + "durations", durations_);
+  }
+  void restore(const Snapshot& s, const std::string& p) override {
+    const std::vector<double>& last = s.reals(p + "last");
+    last_gap_ = last.at(0);
+    last_t_ = last.at(1);
+    onset_ = last.at(2);
+    have_last_ = last.at(3) != 0;
+    awaiting_apex_ = last.at(4) != 0;
+    heights_ = s.reals(p + "heights");
+    durations_ = s.reals(p + "durations");
+  }
 
  private:
   double crossing(double t, double gap) const { return last_t_ + (t - last_t_) * last_gap_ / (last_gap_ - gap); }
@@ -102,6 +117,15 @@ class InclineObserver final : public Observer {
     const double w = sys_.rotates() ? y[sys_.omega_at()] : 0.0;
     out["incline_acceleration"] = slope;
     out["slip_ratio"] = 1 + w * sys_.radius(0) / vx;
+  }
+  void save(Snapshot& s, const std::string& p) const override { s.put(p + "fit", {fit_.n, fit_.sx, fit_.sy, fit_.sxx, fit_.sxy}); }
+  void restore(const Snapshot& s, const std::string& p) override {
+    const std::vector<double>& f = s.reals(p + "fit");
+    fit_.n = f.at(0);
+    fit_.sx = f.at(1);
+    fit_.sy = f.at(2);
+    fit_.sxx = f.at(3);
+    fit_.sxy = f.at(4);
   }
 
  private:
@@ -251,6 +275,18 @@ class MixingObserver final : public Observer {
     }
     out["bed_centre"] = {cx, cy};
     out["bed_tilt_deg"] = 0.5 * std::atan2(2 * sxy, sxx - syy) * 180 / M_PI;
+  }
+  void save(Snapshot& s, const std::string& p) const override {
+    s.put(p + "next", next_);
+    s.put(p + "time", time_);
+    s.put(p + "index", index_);
+    s.put(p + "spread", spread_);
+  }
+  void restore(const Snapshot& s, const std::string& p) override {
+    next_ = s.real(p + "next");
+    time_ = s.reals(p + "time");
+    index_ = s.reals(p + "index");
+    spread_ = s.reals(p + "spread");
   }
 
  private:

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "src/snapshot.h"
+
 namespace kiln {
 
 class DemSystem;
@@ -16,6 +18,9 @@ class Observer {
   virtual ~Observer() = default;
   virtual void sample(double /*t*/, const double* /*y*/) {}  // after every step; most need only the end
   virtual void report(double t, const double* y, nlohmann::json& summary) = 0;
+  // Checkpoints: what sample() accumulated, under keys starting with `prefix`.
+  virtual void save(Snapshot&, const std::string& /*prefix*/) const {}
+  virtual void restore(const Snapshot&, const std::string& /*prefix*/) {}
 };
 
 const std::vector<std::string>& observer_names();

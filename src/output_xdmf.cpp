@@ -1,22 +1,8 @@
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <sstream>
-#include <stdexcept>
 
 #include "src/outputs.h"
 
 namespace kiln {
-
-void write_file_atomically(const std::string& path, const std::string& text) {
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    out << text;
-    if (!out) throw std::runtime_error("cannot write " + tmp);
-  }
-  std::filesystem::rename(tmp, path);
-}
 
 std::string xdmf_document(const std::string& h5, int n, const std::vector<double>& times, bool thermal) {
   const size_t frames = times.size();

@@ -5,16 +5,11 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "src/wall_geometry.h"
+
 namespace kiln {
 
 namespace {
-
-double distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
-  const Vec2 ab = b - a;
-  const double len2 = dot(ab, ab);
-  const double s = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-  return norm(p - (a + s * ab));
-}
 
 // Uniform grid of cell size >= largest diameter: a disc overlaps only discs in the 3x3 cells.
 class OverlapGrid {

@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "src/error.h"
 #include "src/outputs.h"
 
 namespace kiln {
@@ -106,11 +107,12 @@ void write_picture(const std::string& path, const PictureInput& in) {
   cairo_show_text(cr, in.title.c_str());
 
   cairo_destroy(cr);
-  const std::string tmp = path + ".tmp";
-  const cairo_status_t status = cairo_surface_write_to_png(surface, tmp.c_str());
+  const cairo_status_t status = cairo_surface_write_to_png(surface, path.c_str());
   cairo_surface_destroy(surface);
-  if (status != CAIRO_STATUS_SUCCESS) throw std::runtime_error("cannot write " + tmp);
-  std::filesystem::rename(tmp, path);
+  if (status != CAIRO_STATUS_SUCCESS) {
+    std::remove(path.c_str());
+    throw OutputError("cannot write " + path + ": " + cairo_status_to_string(status));
+  }
 }
 
 }  // namespace kiln

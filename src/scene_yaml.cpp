@@ -1,8 +1,11 @@
 #include "src/scene_yaml.h"
 
+#include <unistd.h>
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -20,6 +23,152 @@ namespace kiln {
 
 namespace {
 
+// Every documented key, by the schema path of its map (see KeySchema). allow() checks a map
+// against it, and --set may add any key it lists.
+const KeySchema scene_schema = {
+    {"", {"name", "description", "mass_model", "thickness", "gravity", "materials", "contact_model", "contacts",
+          "conduction_model", "rolling_model", "heat_from_dissipation", "mechanics", "freeze", "particles", "walls",
+          "integrator", "rtol", "atol", "contact_events", "linear_solver", "dt", "t_end", "output_interval", "skin",
+          "allow_overlap", "checks", "stop", "report"}},
+    {"materials", {"*"}},
+    {"materials.*", {"density", "youngs_modulus", "poisson_ratio", "stiffness", "restitution", "friction",
+                     "rolling_friction", "specific_heat", "conductivity", "electrical_resistivity"}},
+    {"contacts.*", {"between", "model", "stiffness", "restitution", "damping_rate", "tension", "friction",
+                    "rolling_friction", "rolling_model", "rolling_damping_ratio", "tangential_stiffness_ratio",
+                    "tangential_damping_ratio", "conduction", "conductance", "softened_modulus_ratio",
+                    "contact_resistance"}},
+    {"particles.*", {"material", "radius", "velocity", "random_velocity", "angular_velocity", "temperature", "at",
+                     "fill", "lattice"}},
+    {"particles.*.radius", {"uniform"}},
+    {"particles.*.random_velocity", {"max", "seed"}},
+    {"particles.*.temperature", {"x_split", "left", "right"}},
+    {"particles.*.fill", {"rectangle", "polygon", "count", "seed", "attempts"}},
+    {"particles.*.lattice", {"kind", "origin", "spacing", "rows", "columns", "jitter", "seed"}},
+    {"walls.*", {"name", "material", "motion", "temperature", "segment", "polyline", "box", "circle", "arc", "closed",
+                 "tolerance"}},
+    {"walls.*.motion", {"type", "velocity", "distance", "centre", "rpm"}},
+    {"walls.*.temperature", {"steps", "ramp"}},
+    {"walls.*.circle", {"centre", "radius"}},
+    {"walls.*.arc", {"centre", "radius", "from_deg", "to_deg"}},
+    {"freeze", {"kinetic_energy_below", "not_before", "latest", "dt", "output_interval", "integrator"}},
+    {"atol", {"position", "velocity", "angle", "temperature", "other"}},
+    {"checks", {"max_overlap_fraction"}},
+    {"stop", {"kinetic_energy_below", "not_before"}},
+};
+
+// Physical ranges of lengths (m). A disc below a nanometre is a few atoms, which the contact
+// mechanics of continua does not describe. Coordinates stay within 1000 km of the origin: over
+// nanometre discs, farther ones would overflow the 64-bit cell indices of the fill grid and the
+// float boxes of the neighbour search.
+constexpr double shortest_length = 1e-9;
+constexpr double farthest_coordinate = 1e6;
+// The spring-dashpot laws reach a restitution e -> 0 only as the dashpot approaches its overdamped
+// limit (critical damping for the linear law with tension; without bound for Hertz and clamped
+// laws), where e hangs on the third digit of the damping and the contact barely ends: below 0.01
+// the impact is plastic, which a viscoelastic dashpot does not describe. A stronger damping is
+// given directly as a contact's damping_rate.
+constexpr double least_restitution = 0.01;
+// Every pair of materials gets a contact law whose damping is solved for when a run starts (up to
+// 0.2 s each, n (n + 1) / 2 of them): 16 materials cost half a minute at worst.
+constexpr int max_materials = 16;
+
+// A scene's claim on memory, counted before anything is allocated for it. A run needs about
+// 0.5 kB per disc (measured on a 40,000-disc lattice: state, neighbour lists, frames), counted as
+// 1 kB to leave room for the contacts of dense packings; a wall segment about 256 bytes (its
+// geometry, its moved copies, its proxy in the neighbour tree).
+class MemoryClaim {
+ public:
+  explicit MemoryClaim(uint64_t budget) : budget_(budget) {}
+  long long max_particles() const {
+    return static_cast<long long>(std::min<uint64_t>(budget_ / per_particle, INT_MAX));  // n_particles() is an int
+  }
+  void add_particles(const SceneNode& at, long long count, const std::string& what) {
+    const std::string before = particles_ > 0 ? " after " + std::to_string(particles_) + " in earlier sets" : "";
+    if (count > max_particles() - particles_)
+      at.fail(what + " particles" + before + ": more than the " + std::to_string(max_particles()) + " that fit in this machine's memory (" +
+              gigabytes() + " at about 1 kB per particle in a run)");
+    particles_ += count;
+  }
+  void add_segments(const SceneNode& at, size_t count) {
+    segments_ += count;
+    if (particles_ * per_particle + segments_ * per_segment > budget_)
+      at.fail("the walls come to " + std::to_string(segments_) + " segments, which with " +
+              std::to_string(particles_) + " particles exceed this machine's memory (" + gigabytes() +
+              "; about 256 bytes a segment): raise the tolerance of circles and arcs");
+  }
+
+ private:
+  static constexpr uint64_t per_particle = 1024, per_segment = 256;
+  std::string gigabytes() const {
+    std::ostringstream s;
+    s.precision(3);
+    s << budget_ / 1e9 << " GB";
+    return s.str();
+  }
+  uint64_t budget_;
+  long long particles_ = 0;
+  uint64_t segments_ = 0;
+};
+
+double length(const SceneNode& node) {
+  const double v = node.positive();
+  if (v < shortest_length || v > farthest_coordinate)
+    node.fail("expected a length in [1e-9, 1e6] m, got " + node.text() +
+              " (below a nanometre a disc is a few atoms; beyond 1000 km the neighbour search loses its cells)");
+  return v;
+}
+
+bool within_reach(Vec2 p) { return std::abs(p.x) <= farthest_coordinate && std::abs(p.y) <= farthest_coordinate; }
+const char* const out_of_reach = "a coordinate beyond 1e6 m (1000 km) from the origin, where kiln's neighbour search "
+                                 "cannot resolve nanometre discs";
+
+Vec2 point(const SceneNode& node) {
+  const Vec2 p = node.vec2();
+  if (!within_reach(p)) node.fail(out_of_reach);
+  return p;
+}
+
+// [x, y] given as two numbers of a longer list (a rectangle's corners).
+Vec2 point_of(const SceneNode& x, const SceneNode& y) {
+  const Vec2 p{x.number(), y.number()};
+  if (!within_reach(p)) (std::abs(p.x) > farthest_coordinate ? x : y).fail(out_of_reach);
+  return p;
+}
+
+double restitution(const SceneNode& node) {
+  const double e = node.number();
+  if (!(e >= least_restitution && e <= 1))
+    node.fail("expected a restitution in [0.01, 1], got " + node.text() +
+              ": below 0.01 a spring-dashpot contact is at the edge of overdamping, where the restitution hangs on "
+              "the third digit of the damping and the impact is plastic, which the model does not describe (give a "
+              "contact's damping_rate for a stronger damping)");
+  return e;
+}
+
+// The scene name becomes the output directory out/<name>: a plain directory name, nothing that
+// climbs out of out/, hides, or is empty.
+std::string read_name(const SceneNode& node) {
+  const std::string name = node.text();
+  const bool safe = !name.empty() && name.size() <= 100 && name.front() != '.' &&
+                    name.find_first_not_of("ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789_.-") ==
+                        std::string::npos;
+  if (!safe)
+    node.fail("the name '" + name + "' cannot be a directory name: use 1 to 100 of A-Z a-z 0-9 _ . -, not "
+              "starting with '.'");
+  return name;
+}
+
+// Where each particle came from, for messages.
+struct ParticleSets {
+  std::vector<Location> location;  // of each set
+  std::vector<int> first;          // index of each set's first particle
+  std::vector<int> of;             // each particle's set
+  std::string describe(int i) const {
+    return "particle " + std::to_string(i) + " (number " + std::to_string(i - first[of[i]]) + " of set " +
+           location[of[i]].key + ")";
+  }
+};
+
 struct MaterialIndex {
   std::map<std::string, int> by_name;
   int find(const SceneNode& node) const {
@@ -35,15 +184,14 @@ struct MaterialIndex {
 };
 
 Material read_material(const std::string& name, const SceneNode& m) {
-  m.allow({"density", "youngs_modulus", "poisson_ratio", "stiffness", "restitution", "friction", "rolling_friction",
-           "specific_heat", "conductivity", "electrical_resistivity"});
+  m.allow();
   Material mat;
   mat.name = name;
   if (auto v = m.optional("density")) mat.density = v->positive();
   if (auto v = m.optional("youngs_modulus")) mat.youngs_modulus = v->positive();
   if (auto v = m.optional("poisson_ratio")) mat.poisson_ratio = v->in_range(-1, 0.5, true, false);
   if (auto v = m.optional("stiffness")) mat.stiffness = v->positive();
-  if (auto v = m.optional("restitution")) mat.restitution = v->in_range(0, 1, true, false);
+  if (auto v = m.optional("restitution")) mat.restitution = restitution(*v);
   if (auto v = m.optional("friction")) mat.friction = v->non_negative();
   if (auto v = m.optional("rolling_friction")) mat.rolling_friction = v->non_negative();
   if (auto v = m.optional("specific_heat")) mat.specific_heat = v->positive();
@@ -110,16 +258,14 @@ void read_contacts(const SceneNode& root, Scene& scene, const MaterialIndex& ind
     }
   if (auto contacts = root.optional("contacts")) {
     for (const SceneNode& c : contacts->items()) {
-      c.allow({"between", "model", "stiffness", "restitution", "damping_rate", "tension", "friction",
-               "rolling_friction", "rolling_model", "rolling_damping_ratio", "tangential_stiffness_ratio", "tangential_damping_ratio", "conduction", "conductance",
-               "softened_modulus_ratio", "contact_resistance"});
+      c.allow();
       const auto pair = c["between"].items();
       if (pair.size() != 2) c["between"].fail("expected two material names [a, b]");
       const int a = index.find(pair[0]), b = index.find(pair[1]);
       PairLaw law = scene.laws[a * nm + b];
       if (auto v = c.optional("model")) law.model = read_model(*v);
       if (auto v = c.optional("stiffness")) law.stiffness = v->positive();
-      if (auto v = c.optional("restitution")) law.restitution = v->in_range(0, 1, true, false);
+      if (auto v = c.optional("restitution")) law.restitution = restitution(*v);
       if (auto v = c.optional("damping_rate")) law.damping_rate = v->non_negative();
       if (c.has("restitution") && c.has("damping_rate"))
         c["damping_rate"].fail("give either restitution or damping_rate, not both");
@@ -144,14 +290,14 @@ void read_contacts(const SceneNode& root, Scene& scene, const MaterialIndex& ind
 
 RadiusDistribution read_radius(const SceneNode& node) {
   if (node.is_map()) {
-    node.allow({"uniform"});
+    node.allow();
     const auto range = node["uniform"].items();
     if (range.size() != 2) node["uniform"].fail("expected [min, max]");
-    const double lo = range[0].positive(), hi = range[1].positive();
+    const double lo = length(range[0]), hi = length(range[1]);
     if (hi < lo) node["uniform"].fail("expected min <= max");
     return {lo, hi};
   }
-  const double r = node.positive();
+  const double r = length(node);
   return {r, r};
 }
 
@@ -160,11 +306,11 @@ Region read_region(const SceneNode& fill) {
   if (auto rect = fill.optional("rectangle")) {
     const auto v = rect->items();
     if (v.size() != 4) rect->fail("expected [x0, y0, x1, y1]");
-    const double x0 = v[0].number(), y0 = v[1].number(), x1 = v[2].number(), y1 = v[3].number();
-    if (!(x1 > x0 && y1 > y0)) rect->fail("expected x1 > x0 and y1 > y0");
-    region.corners = {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}};
+    region.corners = {point_of(v[0], v[1]), point_of(v[2], v[1]), point_of(v[2], v[3]), point_of(v[0], v[3])};
+    if (!(region.corners[2].x > region.corners[0].x && region.corners[2].y > region.corners[0].y))
+      rect->fail("expected x1 > x0 and y1 > y0");
   } else if (auto poly = fill.optional("polygon")) {
-    for (const SceneNode& p : poly->items()) region.corners.push_back(p.vec2());
+    for (const SceneNode& p : poly->items()) region.corners.push_back(point(p));
     if (region.corners.size() < 3) poly->fail("expected at least three corners");
   } else {
     fill.fail("expected a region: 'rectangle' or 'polygon'");
@@ -172,82 +318,106 @@ Region read_region(const SceneNode& fill) {
   return region;
 }
 
-void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& index,
-                    std::vector<Location>& set_location, std::vector<int>& set_of) {
-  int set = 0;
+// fill: random discs in a region, counted against the memory before any is placed.
+Placement read_fill(const SceneNode& fill, const SceneNode& radius, const Scene& scene, MemoryClaim& claim) {
+  fill.allow();
+  const Region region = read_region(fill);
+  const long long count = fill["count"].integer(1, LLONG_MAX);
+  claim.add_particles(fill["count"], count, std::to_string(count));
+  const long long seed = fill.has("seed") ? fill["seed"].integer(0, LLONG_MAX) : 1;
+  // A disc that finds no place in a million tries will not find one: the region is full.
+  const long long attempts = fill.has("attempts") ? fill["attempts"].integer(1, 1000000) : 10000;
+  try {
+    return random_fill(region, static_cast<int>(count), read_radius(radius), static_cast<uint64_t>(seed), attempts,
+                       scene.position, scene.radius);
+  } catch (const std::runtime_error& e) {
+    fill.fail(e.what());
+  }
+}
+
+// lattice: rows x columns discs, their number computed in 64 bits and counted against the memory.
+Placement read_lattice(const SceneNode& lat, const SceneNode& radius, MemoryClaim& claim) {
+  lat.allow();
+  const bool hex = lat.has("kind") && lat["kind"].choice({"hexagonal", "square"}) == "hexagonal";
+  const long long rows = lat["rows"].integer(1, LLONG_MAX), columns = lat["columns"].integer(1, LLONG_MAX);
+  const bool huge = rows > LLONG_MAX / columns;  // the product itself would not fit in 64 bits
+  const long long count = huge ? LLONG_MAX : rows * columns;
+  claim.add_particles(lat, count, "rows x columns = " + std::to_string(rows) + " x " + std::to_string(columns) +
+                                      (huge ? "" : " = " + std::to_string(count)));
+  const Vec2 origin = point(lat["origin"]);
+  const double spacing = length(lat["spacing"]);
+  const double jitter = lat.has("jitter") ? lat["jitter"].non_negative() : 0.0;
+  const long long seed = lat.has("seed") ? lat["seed"].integer(0, LLONG_MAX) : 1;
+  return lattice(hex, origin, spacing, static_cast<int>(rows), static_cast<int>(columns), read_radius(radius), jitter,
+                 static_cast<uint64_t>(seed));
+}
+
+Placement read_placement(const SceneNode& ps, const Scene& scene, MemoryClaim& claim) {
+  const int ways = ps.has("at") + ps.has("fill") + ps.has("lattice");
+  if (ways != 1) ps.fail("give exactly one of 'at' (a list of positions), 'fill' or 'lattice'");
+  if (auto fill = ps.optional("fill")) return read_fill(*fill, ps["radius"], scene, claim);
+  if (auto lat = ps.optional("lattice")) return read_lattice(*lat, ps["radius"], claim);
+  const auto at = ps["at"].items();
+  claim.add_particles(ps["at"], static_cast<long long>(at.size()), std::to_string(at.size()));
+  const RadiusDistribution radii = read_radius(ps["radius"]);
+  Placement placed;
+  Random rng(0);
+  for (const SceneNode& p : at) {
+    placed.position.push_back(point(p));
+    placed.radius.push_back(radii.draw(rng));
+  }
+  return placed;
+}
+
+void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& index, ParticleSets& sets,
+                    MemoryClaim& claim) {
   for (const SceneNode& ps : root["particles"].items()) {
-    ps.allow({"material", "radius", "velocity", "random_velocity", "angular_velocity", "temperature", "at", "fill",
-              "lattice"});
+    ps.allow();
     const int mat = index.find(ps["material"]);
     if (!(scene.materials[mat].density > 0)) ps["material"].fail("this material needs a density to make particles");
-    const int ways = ps.has("at") + ps.has("fill") + ps.has("lattice");
-    if (ways != 1) ps.fail("give exactly one of 'at' (a list of positions), 'fill' or 'lattice'");
     const Vec2 velocity = ps.optional("velocity") ? ps["velocity"].vec2() : Vec2{};
     const double spin = ps.number_or("angular_velocity", 0);
-    Placement placed;
-    if (auto at = ps.optional("at")) {
-      const RadiusDistribution radii = read_radius(ps["radius"]);
-      Random rng(0);
-      for (const SceneNode& p : at->items()) {
-        placed.position.push_back(p.vec2());
-        placed.radius.push_back(radii.draw(rng));
-      }
-    } else if (auto fill = ps.optional("fill")) {
-      fill->allow({"rectangle", "polygon", "count", "seed", "attempts"});
-      const Region region = read_region(*fill);
-      const int count = static_cast<int>((*fill)["count"].integer(1));
-      const long seed = fill->has("seed") ? (*fill)["seed"].integer(0) : 1;
-      const long attempts = fill->has("attempts") ? (*fill)["attempts"].integer(1) : 10000;
-      try {
-        placed = random_fill(region, count, read_radius(ps["radius"]), static_cast<uint64_t>(seed), attempts,
-                             scene.position, scene.radius);
-      } catch (const std::runtime_error& e) {
-        fill->fail(e.what());
-      }
-    } else {
-      const SceneNode lat = ps["lattice"];
-      lat.allow({"kind", "origin", "spacing", "rows", "columns", "jitter", "seed"});
-      const bool hex = lat.has("kind") && lat["kind"].choice({"hexagonal", "square"}) == "hexagonal";
-      placed = lattice(hex, lat["origin"].vec2(), lat["spacing"].positive(), static_cast<int>(lat["rows"].integer(1)),
-                       static_cast<int>(lat["columns"].integer(1)), read_radius(ps["radius"]),
-                       lat.has("jitter") ? lat["jitter"].non_negative() : 0.0,
-                       static_cast<uint64_t>(lat.has("seed") ? lat["seed"].integer(0) : 1));
-    }
+    const Placement placed = read_placement(ps, scene, claim);
+    for (size_t k = 0; k < placed.position.size(); ++k)
+      if (!within_reach(placed.position[k]))
+        ps.fail("particle " + std::to_string(k) + " of this set lies at " + out_of_reach);
     // random_velocity: {max: V, seed: S} adds to each velocity component a uniform draw in [-V, V].
     double jitter = 0;
     Random velocity_rng(1);
     if (auto rv = ps.optional("random_velocity")) {
-      rv->allow({"max", "seed"});
+      rv->allow();
       jitter = (*rv)["max"].positive();
-      velocity_rng = Random(static_cast<uint64_t>(rv->has("seed") ? (*rv)["seed"].integer(0) : 1));
+      velocity_rng = Random(static_cast<uint64_t>(rv->has("seed") ? (*rv)["seed"].integer(0, LLONG_MAX) : 1));
     }
     // temperature: T, or {x_split: x, left: T1, right: T2} (a hot half and a cold half).
     const auto temp = ps.optional("temperature");
     double t_left = NAN, t_right = NAN, x_split = INFINITY;
     if (temp && temp->is_map()) {
-      temp->allow({"x_split", "left", "right"});
+      temp->allow();
       x_split = (*temp)["x_split"].number();
-      t_left = (*temp)["left"].number();
-      t_right = (*temp)["right"].number();
+      t_left = (*temp)["left"].temperature();
+      t_right = (*temp)["right"].temperature();
     } else if (temp) {
-      t_left = t_right = temp->number();
+      t_left = t_right = temp->temperature();
     }
     if (scene.thermal != static_cast<bool>(temp) && !scene.position.empty())
       ps.fail("either every particle set gives a temperature (a thermal scene) or none does");
     scene.thermal = static_cast<bool>(temp);
+    sets.first.push_back(scene.n_particles());
     for (size_t k = 0; k < placed.radius.size(); ++k) {
       if (temp) scene.temperature.push_back(placed.position[k].x < x_split ? t_left : t_right);
       scene.position.push_back(placed.position[k]);
       scene.radius.push_back(placed.radius[k]);
       Vec2 v = velocity;
       if (jitter > 0) v = v + Vec2{velocity_rng.uniform(-jitter, jitter), velocity_rng.uniform(-jitter, jitter)};
+      if (!std::isfinite(v.x) || !std::isfinite(v.y))
+        ps.fail("the velocities overflow double precision (random_velocity.max near 1.8e308)");
       scene.velocity.push_back(v);
       scene.angular_velocity.push_back(spin);
       scene.material.push_back(mat);
-      set_of.push_back(set);
+      sets.of.push_back(static_cast<int>(sets.location.size()));
     }
-    set_location.push_back(ps.location());
-    ++set;
+    sets.location.push_back(ps.location());
   }
   if (scene.radius.empty()) root["particles"].fail("the scene has no particles");
 }
@@ -265,8 +435,9 @@ WallMotion read_motion(const SceneNode& m) {
   } else {
     m.allow({"type", "centre", "rpm"});
     motion.kind = WallMotion::Kind::rotate;
-    motion.centre = m["centre"].vec2();
+    motion.centre = point(m["centre"]);
     motion.omega = m["rpm"].number() * 2 * M_PI / 60;
+    if (!std::isfinite(motion.omega)) m["rpm"].fail("the angular speed overflows double precision");
   }
   return motion;
 }
@@ -278,30 +449,74 @@ thermal::WallTemperature read_wall_temperature(const SceneNode& node) {
   if (!node.is_map()) {
     wt.kind = thermal::WallTemperature::Kind::steps;
     wt.times = {0};
-    wt.values = {node.number()};
+    wt.values = {node.temperature()};
     return wt;
   }
-  node.allow({"steps", "ramp"});
+  node.allow();
   if (node.has("steps") == node.has("ramp")) node.fail("give one of 'steps' or 'ramp'");
   const bool steps = node.has("steps");
   wt.kind = steps ? thermal::WallTemperature::Kind::steps : thermal::WallTemperature::Kind::ramp;
   const SceneNode list = node[steps ? "steps" : "ramp"];
   for (const SceneNode& point : list.items()) {
-    const Vec2 tv = point.vec2();
-    if (!wt.times.empty() && tv.x <= wt.times.back()) point.fail("times must increase");
-    wt.times.push_back(tv.x);
-    wt.values.push_back(tv.y);
+    if (!point.is_sequence() || point.items().size() != 2) point.fail("expected a pair [time, temperature]");
+    const double time = point.items()[0].number();
+    if (!wt.times.empty() && time <= wt.times.back()) point.fail("times must increase");
+    wt.times.push_back(time);
+    wt.values.push_back(point.items()[1].temperature());
   }
   if (wt.times.empty()) list.fail("expected at least one [time, temperature] point");
   return wt;
 }
 
-void read_walls(const SceneNode& root, Scene& scene, const MaterialIndex& index) {
+// A circle or an arc as chords. Its tolerance is at least 1e-9 of its radius: the chords then
+// number at most about 70,000 per turn (the sagitta R (1 - cos(dphi/2)) <= tolerance), and an arc
+// turns at most once.
+std::vector<Vec2> read_arc(const SceneNode& node, double from, double to, double tolerance) {
+  node.allow();
+  const double radius = length(node["radius"]);
+  if (tolerance < 1e-9 * radius)
+    node.fail("the tolerance is below 1e-9 of the radius: the chords would be too many to hold");
+  return arc_points(point(node["centre"]), radius, from, to, tolerance);
+}
+
+void read_wall_shape(const SceneNode& w, int id, double tolerance, std::vector<Segment>& segments) {
+  auto points = [](const SceneNode& list) {
+    std::vector<Vec2> pts;
+    for (const SceneNode& p : list.items()) pts.push_back(point(p));
+    return pts;
+  };
+  if (auto s = w.optional("segment")) {
+    const auto pts = points(*s);
+    if (pts.size() != 2) s->fail("expected two points [[x0, y0], [x1, y1]]");
+    add_polyline(segments, pts, false, id);
+  } else if (auto p = w.optional("polyline")) {
+    const auto pts = points(*p);
+    if (pts.size() < 2) p->fail("expected at least two points");
+    add_polyline(segments, pts, w.has("closed") && w["closed"].boolean(), id);
+  } else if (auto b = w.optional("box")) {
+    const auto v = b->items();
+    if (v.size() != 4) b->fail("expected [x0, y0, x1, y1]");
+    const Vec2 lo = point_of(v[0], v[1]), hi = point_of(v[2], v[3]);
+    if (!(hi.x > lo.x && hi.y > lo.y)) b->fail("expected x1 > x0 and y1 > y0");
+    add_polyline(segments, {lo, {hi.x, lo.y}, hi, {lo.x, hi.y}}, true, id);
+  } else if (auto c = w.optional("circle")) {
+    auto pts = read_arc(*c, 0, 2 * M_PI, tolerance);
+    pts.pop_back();  // the last point closes onto the first
+    add_polyline(segments, pts, true, id);
+  } else {
+    const SceneNode arc = w["arc"];
+    const double from = arc["from_deg"].number() * M_PI / 180, to = arc["to_deg"].number() * M_PI / 180;
+    if (!(to > from)) arc["to_deg"].fail("expected to_deg > from_deg (counter-clockwise)");
+    if (to - from > 2 * M_PI) arc["to_deg"].fail("an arc turns at most 360 degrees");
+    add_polyline(segments, read_arc(arc, from, to, tolerance), false, id);
+  }
+}
+
+void read_walls(const SceneNode& root, Scene& scene, const MaterialIndex& index, MemoryClaim& claim) {
   const auto walls = root.optional("walls");
   if (!walls) return;
   for (const SceneNode& w : walls->items()) {
-    w.allow({"name", "material", "motion", "temperature", "segment", "polyline", "box", "circle", "arc", "closed",
-             "tolerance"});
+    w.allow();
     Wall wall;
     const int id = static_cast<int>(scene.walls.size());
     wall.name = w.has("name") ? w["name"].text() : "wall" + std::to_string(id);
@@ -312,44 +527,13 @@ void read_walls(const SceneNode& root, Scene& scene, const MaterialIndex& index)
     if (shapes != 1) w.fail("give exactly one shape: segment, polyline, box, circle or arc");
     const double tolerance = w.has("tolerance") ? w["tolerance"].positive() : 1e-5;
     const size_t before = scene.segments.size();
-    auto points = [](const SceneNode& list) {
-      std::vector<Vec2> pts;
-      for (const SceneNode& p : list.items()) pts.push_back(p.vec2());
-      return pts;
-    };
-    if (auto s = w.optional("segment")) {
-      const auto pts = points(*s);
-      if (pts.size() != 2) s->fail("expected two points [[x0, y0], [x1, y1]]");
-      add_polyline(scene.segments, pts, false, id);
-    } else if (auto p = w.optional("polyline")) {
-      const auto pts = points(*p);
-      if (pts.size() < 2) p->fail("expected at least two points");
-      add_polyline(scene.segments, pts, w.has("closed") && w["closed"].boolean(), id);
-    } else if (auto b = w.optional("box")) {
-      const auto v = b->items();
-      if (v.size() != 4) b->fail("expected [x0, y0, x1, y1]");
-      const double x0 = v[0].number(), y0 = v[1].number(), x1 = v[2].number(), y1 = v[3].number();
-      if (!(x1 > x0 && y1 > y0)) b->fail("expected x1 > x0 and y1 > y0");
-      add_polyline(scene.segments, {{x0, y0}, {x1, y0}, {x1, y1}, {x0, y1}}, true, id);
-    } else if (auto c = w.optional("circle")) {
-      c->allow({"centre", "radius"});
-      auto pts = arc_points((*c)["centre"].vec2(), (*c)["radius"].positive(), 0, 2 * M_PI, tolerance);
-      pts.pop_back();  // the last point closes onto the first
-      add_polyline(scene.segments, pts, true, id);
-    } else {
-      const SceneNode arc = w["arc"];
-      arc.allow({"centre", "radius", "from_deg", "to_deg"});
-      const double from = arc["from_deg"].number() * M_PI / 180, to = arc["to_deg"].number() * M_PI / 180;
-      if (!(to > from)) arc["to_deg"].fail("expected to_deg > from_deg (counter-clockwise)");
-      add_polyline(scene.segments, arc_points(arc["centre"].vec2(), arc["radius"].positive(), from, to, tolerance),
-                   false, id);
-    }
+    read_wall_shape(w, id, tolerance, scene.segments);
+    claim.add_segments(w, scene.segments.size() - before);
     for (size_t s = before; s < scene.segments.size(); ++s)
       if (norm(scene.segments[s].b - scene.segments[s].a) == 0) w.fail("a wall segment has zero length");
     scene.walls.push_back(wall);
   }
 }
-
 // A pair law that will be used must have what its model needs.
 void check_laws(const Scene& scene, const std::vector<Location>& law_location) {
   const int nm = scene.n_materials();
@@ -384,27 +568,53 @@ void check_laws(const Scene& scene, const std::vector<Location>& law_location) {
     }
 }
 
-void check_overlaps(const SceneNode& root, const Scene& scene, const std::vector<Location>& set_location,
-                    const std::vector<int>& set_of) {
-  if (root.has("allow_overlap") && root["allow_overlap"].boolean()) return;
+// Initial contacts. A centre on a wall or on another centre is always an error: the contact normal
+// runs from the one to the other and is undefined there. Other overlaps are errors unless
+// allow_overlap.
+void check_initial_contacts(const SceneNode& root, const Scene& scene, const ParticleSets& sets) {
+  const bool overlap_allowed = root.has("allow_overlap") && root["allow_overlap"].boolean();
   std::vector<double> x, y;
   for (Vec2 p : scene.position) {
     x.push_back(p.x);
     y.push_back(p.y);
   }
-  double rmin = scene.radius.front();
-  for (double r : scene.radius) rmin = std::min(rmin, r);
+  const double rmin = *std::min_element(scene.radius.begin(), scene.radius.end());
   Broadphase bp(1e-3 * rmin);
   std::vector<CandidatePair> pairs;
   bp.particle_pairs(x.data(), y.data(), scene.radius.data(), scene.n_particles(), pairs);
   for (const CandidatePair& p : pairs) {
-    const double overlap = scene.radius[p.i] + scene.radius[p.j] - norm(scene.position[p.j] - scene.position[p.i]);
-    if (overlap > 0) {
+    const Location& at = sets.location[sets.of[p.j]];
+    const double distance = norm(scene.position[p.j] - scene.position[p.i]);
+    if (distance == 0)
+      throw InputError(at, sets.describe(p.i) + " and " + sets.describe(p.j) +
+                               " share a centre: their contact normal is undefined, even with allow_overlap");
+    const double overlap = scene.radius[p.i] + scene.radius[p.j] - distance;
+    if (overlap > 0 && !overlap_allowed) {
       std::ostringstream msg;
       msg << "particles " << p.i << " and " << p.j << " overlap by " << overlap << " m at the start (sets "
-          << set_location[set_of[p.i]].key << " and " << set_location[set_of[p.j]].key
-          << "); move them apart or set allow_overlap: true";
-      throw InputError(set_location[set_of[p.j]], msg.str());
+          << sets.location[sets.of[p.i]].key << " and " << at.key << "); move them apart or set allow_overlap: true";
+      throw InputError(at, msg.str());
+    }
+  }
+  std::vector<Vec2> a, b;
+  for (const Segment& s : scene.segments) {
+    a.push_back(s.a);
+    b.push_back(s.b);
+  }
+  bp.wall_pairs(x.data(), y.data(), scene.radius.data(), scene.n_particles(), a, b, pairs);
+  for (const CandidatePair& p : pairs) {
+    const Segment& s = scene.segments[p.j];
+    const std::string wall = "wall '" + scene.walls[s.wall].name + "' (walls." + std::to_string(s.wall) + ")";
+    const Location& at = sets.location[sets.of[p.i]];
+    const double distance = distance_to_segment(scene.position[p.i], s.a, s.b);
+    if (distance == 0)
+      throw InputError(at, sets.describe(p.i) + " has its centre on " + wall +
+                               ": the contact normal is undefined, even with allow_overlap; move it off the wall");
+    if (distance < scene.radius[p.i] && !overlap_allowed) {
+      std::ostringstream msg;
+      msg << sets.describe(p.i) << " overlaps " << wall << " by " << scene.radius[p.i] - distance
+          << " m at the start; move it or set allow_overlap: true";
+      throw InputError(at, msg.str());
     }
   }
 }
@@ -418,10 +628,10 @@ void read_heat(const SceneNode& root, Scene& scene) {
   }
   if (auto m = root.optional("mechanics")) scene.frozen = m->choice({"dynamic", "frozen"}) == "frozen";
   if (auto f = root.optional("freeze")) {
-    f->allow({"kinetic_energy_below", "not_before", "latest", "dt", "output_interval", "integrator"});
+    f->allow();
     scene.freeze.enabled = true;
     scene.freeze.kinetic_energy_below = (*f)["kinetic_energy_below"].positive();
-    scene.freeze.not_before = f->number_or("not_before", 0);
+    if (auto n = f->optional("not_before")) scene.freeze.not_before = n->non_negative();
     if (auto l = f->optional("latest")) scene.freeze.latest = l->positive();
     scene.freeze.dt = (*f)["dt"].positive();
     if (auto o = f->optional("output_interval")) scene.freeze.output_interval = o->positive();
@@ -471,61 +681,20 @@ void check_integrators(const SceneNode& root, const Scene& scene) {
     if (const auto i = freeze->optional("integrator")) check(&*i, scene.freeze.integrator, false);
 }
 
-}  // namespace
-
-Scene parse_scene(const std::string& text, const std::string& file, const std::vector<std::string>& overrides) {
-  YAML::Node doc;
-  try {
-    doc = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
-    throw InputError({file, e.mark.line + 1, ""}, "not valid YAML: " + e.msg);
-  }
-  if (!doc.IsMap()) throw InputError({file, 1, ""}, "a scene is a map of keys (name, materials, particles, ...)");
-  const auto overridden = std::make_shared<const std::set<std::string>>(apply_overrides(doc, overrides));
-  const SceneNode root(doc, "", file, overridden);
-  root.allow({"name", "description", "mass_model", "thickness", "gravity", "materials", "contact_model", "contacts",
-              "conduction_model", "rolling_model", "heat_from_dissipation", "mechanics", "freeze", "particles", "walls", "integrator", "rtol", "atol", "contact_events", "linear_solver", "dt",
-              "t_end", "output_interval", "skin", "allow_overlap", "checks", "stop", "report"});
-  Scene scene;
-  scene.file = file;
-  scene.name = root["name"].text();
-  if (auto d = root.optional("description")) scene.description = d->text();
-  if (auto m = root.optional("mass_model")) {
-    if (m->choice({"sphere", "cylinder"}) == "cylinder") {
-      scene.mass_model = MassModel::cylinder;
-      scene.thickness = root["thickness"].positive();
-    }
-  }
-  if (root.has("thickness") && scene.mass_model != MassModel::cylinder)
-    root["thickness"].fail("thickness applies only to mass_model: cylinder");
-  if (auto g = root.optional("gravity")) scene.gravity = g->vec2();
-
-  MaterialIndex index;
-  for (const auto& [name, node] : root["materials"].entries()) {
-    index.by_name[name] = scene.n_materials();
-    scene.materials.push_back(read_material(name, node));
-  }
-  std::vector<Location> law_location;
-  read_contacts(root, scene, index, law_location);
-  std::vector<Location> set_location;
-  std::vector<int> set_of;
-  read_particles(root, scene, index, set_location, set_of);
-  read_walls(root, scene, index);
-  read_heat(root, scene);
-  check_laws(scene, law_location);
-  check_overlaps(root, scene, set_location, set_of);
-
+// The steps: integrator, tolerances, dt, t_end and frames.
+void read_stepping(const SceneNode& root, Scene& scene) {
   if (auto i = root.optional("integrator")) scene.integrator = i->text();
   if (auto r = root.optional("rtol")) scene.control.rtol = r->in_range(0, 1, true, true);
   // atol: a number for every component, or per field {position, velocity, angle, temperature, other}.
   if (auto a = root.optional("atol")) {
     if (a->is_map()) {
-      a->allow({"position", "velocity", "angle", "temperature", "other"});
-      scene.control.atol = a->number_or("other", 0);
-      scene.control.atol_position = a->number_or("position", NAN);
-      scene.control.atol_velocity = a->number_or("velocity", NAN);
-      scene.control.atol_angle = a->number_or("angle", NAN);
-      scene.control.atol_temperature = a->number_or("temperature", NAN);
+      a->allow();
+      auto field = [&](const char* key, double fallback) { return a->has(key) ? (*a)[key].positive() : fallback; };
+      scene.control.atol = field("other", 0);
+      scene.control.atol_position = field("position", NAN);
+      scene.control.atol_velocity = field("velocity", NAN);
+      scene.control.atol_angle = field("angle", NAN);
+      scene.control.atol_temperature = field("temperature", NAN);
     } else {
       scene.control.atol = a->positive();
     }
@@ -537,19 +706,24 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
         l->choice({"cholesky", "cg"}) == "cg" ? LinearSolverKind::cg : LinearSolverKind::cholesky;
   }
   check_integrators(root, scene);
+  // How many steps that makes is judged with the other limits of dt (judge_dt), which --force overrides.
   scene.dt = root["dt"].positive();
   scene.t_end = root["t_end"].positive();
   if (scene.dt > scene.t_end) root["dt"].fail("dt is longer than t_end");
   scene.output_interval = root.has("output_interval") ? root["output_interval"].positive() : scene.t_end / 100;
-  if (auto s = root.optional("skin")) scene.skin = s->positive();
+}
+
+// The run's own checks, its early stop, and the quantities it reports.
+void read_checks(const SceneNode& root, Scene& scene) {
+  if (auto s = root.optional("skin")) scene.skin = length(*s);
   if (auto checks = root.optional("checks")) {
-    checks->allow({"max_overlap_fraction"});
+    checks->allow();
     if (auto f = checks->optional("max_overlap_fraction")) scene.max_overlap_fraction = f->in_range(0, 1, true, false);
   }
   if (auto stop = root.optional("stop")) {
-    stop->allow({"kinetic_energy_below", "not_before"});
+    stop->allow();
     scene.stop_kinetic_energy = (*stop)["kinetic_energy_below"].positive();
-    scene.stop_not_before = stop->number_or("not_before", 0);
+    if (auto n = stop->optional("not_before")) scene.stop_not_before = n->non_negative();
   }
   if (auto report = root.optional("report")) {
     for (const SceneNode& q : report->items()) {
@@ -562,15 +736,87 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
       scene.report.push_back(name);
     }
   }
+}
+
+void read_materials(const SceneNode& root, Scene& scene, MaterialIndex& index) {
+  const auto materials = root["materials"].entries();
+  if (materials.size() > max_materials)
+    root["materials"].fail(std::to_string(materials.size()) + " materials; at most " + std::to_string(max_materials) +
+                           " (every pair of them gets a contact law, solved for when a run starts)");
+  for (const auto& [name, node] : materials) {
+    index.by_name[name] = scene.n_materials();
+    scene.materials.push_back(read_material(name, node));
+  }
+}
+
+Scene read_scene(const SceneNode& root, const std::string& file, uint64_t memory) {
+  root.allow();
+  Scene scene;
+  scene.file = file;
+  scene.name = read_name(root["name"]);
+  if (auto d = root.optional("description")) scene.description = d->text();
+  if (auto m = root.optional("mass_model")) {
+    if (m->choice({"sphere", "cylinder"}) == "cylinder") {
+      scene.mass_model = MassModel::cylinder;
+      scene.thickness = length(root["thickness"]);
+    }
+  }
+  if (root.has("thickness") && scene.mass_model != MassModel::cylinder)
+    root["thickness"].fail("thickness applies only to mass_model: cylinder");
+  if (auto g = root.optional("gravity")) scene.gravity = g->vec2();
+  MaterialIndex index;
+  read_materials(root, scene, index);
+  std::vector<Location> law_location;
+  read_contacts(root, scene, index, law_location);
+  MemoryClaim claim(memory);
+  ParticleSets sets;
+  read_particles(root, scene, index, sets, claim);
+  read_walls(root, scene, index, claim);
+  read_heat(root, scene);
+  check_laws(scene, law_location);
+  check_initial_contacts(root, scene, sets);
+  read_stepping(root, scene);
+  read_checks(root, scene);
   return scene;
 }
 
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+}  // namespace
+
+uint64_t physical_memory() {
+  const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
+  if (pages <= 0 || page_size <= 0) return uint64_t{4} << 30;  // not told: assume a small machine, 4 GB
+  return static_cast<uint64_t>(pages) * static_cast<uint64_t>(page_size);
+}
+
+Scene parse_scene(const std::string& text, const std::string& file, const std::vector<std::string>& overrides,
+                  uint64_t memory) {
+  // Names and texts end up in summary.json: text the JSON writer would refuse is refused here.
+  check_utf8(text, file);
+  YAML::Node doc;
+  try {
+    doc = YAML::Load(text);
+  } catch (const YAML::DeepRecursion& e) {
+    throw InputError({file, e.mark.line + 1, ""},
+                     "lists or maps nested " + std::to_string(e.depth()) + " levels deep: not a scene");
+  } catch (const YAML::ParserException& e) {
+    throw InputError({file, e.mark.line + 1, ""}, "not valid YAML: " + e.msg);
+  }
+  if (!doc.IsMap()) throw InputError({file, 1, ""}, "a scene is a map of keys (name, materials, particles, ...)");
+  // Without aliases a document has fewer values than characters (each takes one at least).
+  check_structure(doc, {file, 1, ""}, 2 * text.size() + 1000);
+  auto source = std::make_shared<SceneReading>();
+  source->file = file;
+  source->schema = &scene_schema;
+  source->overridden = apply_overrides(doc, overrides, scene_schema);
+  return read_scene(SceneNode(doc, source), file, memory);
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides, uint64_t memory) {
   std::ifstream in(path);
   if (!in) throw InputError({path, 0, ""}, "cannot open the scene file");
   std::stringstream text;
   text << in.rdbuf();
-  return parse_scene(text.str(), path, overrides);
+  return parse_scene(text.str(), path, overrides, memory);
 }
 
 }  // namespace kiln

@@ -3,82 +3,26 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <filesystem>
+#include <ctime>
 #include <memory>
+#include <random>
 #include <sstream>
 
 #include "integrators/integrator.h"
 #include "src/dem_system.h"
 #include "src/error.h"
 #include "src/observers.h"
-#include "src/output_h5.h"
-#include "src/outputs.h"
+#include "src/overrides.h"
 #include "src/progress.h"
+#include "src/run_outputs.h"
+#include "src/scene_yaml.h"
 #include "src/stability_guard.h"
+#include "src/stop_signal.h"
 #include "thermal/frozen_conduction.h"
 
 namespace kiln {
 
 namespace {
-
-// Output files are written under temporary names and renamed only when the run succeeds.
-class OutputFiles {
- public:
-  OutputFiles(const std::string& dir, const DemSystem& sys, const Scene& scene) : dir_(dir), sys_(sys) {
-    if (dir_.empty()) return;
-    std::filesystem::create_directories(dir_);
-    h5_ = std::make_unique<H5Frames>(path("result.h5.tmp"), sys.particles(), sys.thermal());
-    h5_->attribute("scene", scene.name);
-    h5_->attribute("integrator", scene.integrator);
-    h5_->attribute("dt", scene.dt);
-    h5_->attribute("kiln_version", KILN_VERSION);
-    std::vector<double> r(sys.particles());
-    for (int i = 0; i < sys.particles(); ++i) r[i] = sys.radius(i);
-    h5_->write_constant(r);
-  }
-  ~OutputFiles() {
-    if (!done_ && h5_) {
-      h5_->close();
-      std::filesystem::remove(path("result.h5.tmp"));
-    }
-  }
-  void frame(double t, const double* y) {
-    times_.push_back(t);
-    if (!h5_) return;
-    h5_->append(t, y + sys_.x_at(), y + sys_.y_at(), y + sys_.vx_at(), y + sys_.vy_at(),
-                sys_.rotates() ? y + sys_.angle_at() : nullptr, sys_.rotates() ? y + sys_.omega_at() : nullptr,
-                sys_.thermal() ? y + sys_.temperature_at() : nullptr);
-  }
-  void finish(double t, const double* y, const nlohmann::json& summary) {
-    if (!h5_) return;
-    h5_->close();
-    std::filesystem::rename(path("result.h5.tmp"), path("result.h5"));
-    write_file_atomically(path("result.xdmf"), xdmf_document("result.h5", sys_.particles(), times_, sys_.thermal()));
-    write_file_atomically(path("summary.json"), summary.dump(2) + "\n");
-    PictureInput pic;
-    for (int i = 0; i < sys_.particles(); ++i) {
-      pic.centre.push_back({y[sys_.x_at() + i], y[sys_.y_at() + i]});
-      pic.radius.push_back(sys_.radius(i));
-      pic.value.push_back(sys_.thermal() ? y[sys_.temperature_at() + i]
-                                         : std::hypot(y[sys_.vx_at() + i], y[sys_.vy_at() + i]));
-    }
-    pic.value_label = sys_.thermal() ? "temperature" : "speed (m/s)";
-    sys_.wall_geometry(t, pic.wall_a, pic.wall_b);
-    std::ostringstream title;
-    title << sys_.scene().name << "  t = " << t << " s  (" << sys_.scene().integrator << ")";
-    pic.title = title.str();
-    write_picture(path("picture.png"), pic);
-    done_ = true;
-  }
-
- private:
-  std::string path(const std::string& name) const { return (std::filesystem::path(dir_) / name).string(); }
-  std::string dir_;
-  const DemSystem& sys_;
-  std::unique_ptr<H5Frames> h5_;
-  std::vector<double> times_;
-  bool done_ = false;
-};
 
 // The steps a stage took: what summary.json reports as step_size (a fixed-step run shows dt,
 // and a shorter last step where t_end is not a multiple of dt).
@@ -104,6 +48,17 @@ struct StepSizes {
     if (count == 0) return {{"steps", 0}};
     return {{"steps", count}, {"min", min}, {"max", max}, {"mean", sum / count}, {"last", last}};
   }
+  void save(Snapshot& s, const std::string& key) const {
+    s.put(key, {static_cast<double>(count), min, max, sum, last});
+  }
+  void restore(const Snapshot& s, const std::string& key) {
+    const std::vector<double>& v = s.reals(key);
+    count = static_cast<long>(v.at(0));
+    min = v.at(1);
+    max = v.at(2);
+    sum = v.at(3);
+    last = v.at(4);
+  }
 };
 
 nlohmann::json ledger_json(const EnergyLedger& e, const EnergyLedger& initial, bool thermal) {
@@ -124,181 +79,485 @@ nlohmann::json ledger_json(const EnergyLedger& e, const EnergyLedger& initial, b
   return j;
 }
 
-}  // namespace
+std::vector<double> ledger_values(const EnergyLedger& e) {
+  return {e.kinetic, e.potential, e.elastic, e.dissipated_damping, e.dissipated_friction,
+          e.work_by_walls, e.thermal, e.heat_from_walls, e.heat_from_dissipation};
+}
 
-nlohmann::json run_scene(const Scene& scene, const RunOptions& options) {
-  const auto wall_start = std::chrono::steady_clock::now();
-  DemSystem system(scene);
-  std::vector<double> y = system.initial_state();
-  std::vector<std::unique_ptr<Observer>> observers;
-  for (const std::string& name : scene.report) observers.push_back(make_observer(name, system));
+EnergyLedger ledger_of(const std::vector<double>& v) {
+  EnergyLedger e;
+  e.kinetic = v.at(0);
+  e.potential = v.at(1);
+  e.elastic = v.at(2);
+  e.dissipated_damping = v.at(3);
+  e.dissipated_friction = v.at(4);
+  e.work_by_walls = v.at(5);
+  e.thermal = v.at(6);
+  e.heat_from_walls = v.at(7);
+  e.heat_from_dissipation = v.at(8);
+  return e;
+}
 
-  // The mechanical stage (skipped in a thermal-only scene): the full state, at dt.
-  std::unique_ptr<Integrator> integrator = make_integrator(scene.integrator, scene.control);
-  if (scene.frozen) {
-    system.prepare(0, y.data(), 0);
+// An integrator's statistics over a run resumed from checkpoints: counts and seconds add up, the
+// rest (last step, names) is the latest segment's.
+nlohmann::json merged_statistics(const nlohmann::json& before, nlohmann::json now) {
+  for (const auto& [key, value] : before.items()) {
+    if (!now.contains(key)) continue;
+    const bool seconds = key.size() > 8 && key.compare(key.size() - 8, 8, "_seconds") == 0;
+    if (value.is_number_integer() && now[key].is_number_integer())
+      now[key] = value.get<long long>() + now[key].get<long long>();
+    else if (seconds && value.is_number() && now[key].is_number())
+      now[key] = value.get<double>() + now[key].get<double>();
+  }
+  return now;
+}
+
+// A run's identity: 64 random bits in hex, and the time it started (UTC, ISO 8601).
+std::string new_run_id() {
+  std::random_device device;
+  std::ostringstream s;
+  s << std::hex << ((static_cast<unsigned long long>(device()) << 32) | device());
+  return s.str();
+}
+
+std::string utc_now() {
+  const std::time_t now = std::time(nullptr);
+  std::tm utc{};
+  gmtime_r(&now, &utc);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &utc);
+  return text;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// One run: the state, its two stages (mechanics, then after a freeze heat alone), the frames,
+// the checks and the checkpoints. Everything a checkpoint must hold is a member.
+class SceneRun {
+ public:
+  SceneRun(const Scene& scene, const RunOptions& options);
+  nlohmann::json go();
+
+ private:
+  enum class Ended { at_end, at_rest, frozen, signal };
+  enum Stage { mechanics_stage = 0, heat_stage = 1 };
+  void start_fresh();
+  void resume(const Snapshot& s);
+  void enter_heat_stage(bool freezing, const Snapshot* s);
+  Ended run_stage(Integrator& stepper, bool moving);
+  Ended at_frame(bool moving, bool at_end);
+  void count_contacts();
+  void save_checkpoint();
+  void close_stage(Integrator& stepper, nlohmann::json& stats);
+  nlohmann::json summary(Ended ended);
+  double frame_time(double index) const { return stage_t0_ + index * stage_interval_; }
+
+  const Scene& scene_;
+  const RunOptions& options_;
+  const std::chrono::steady_clock::time_point wall_start_ = std::chrono::steady_clock::now();
+  DemSystem system_;
+  std::vector<double> y_;
+  std::vector<std::unique_ptr<Observer>> observers_;
+  std::unique_ptr<Integrator> integrator_;  // the mechanical stage's
+  std::unique_ptr<thermal::FrozenConduction> network_;
+  std::unique_ptr<Integrator> heat_stepper_;
+  std::string heat_integrator_;
+  EnergyLedger initial_;
+  std::unique_ptr<StabilityGuard> guard_;
+  std::unique_ptr<RunOutputs> files_;
+  Progress progress_;
+  std::string run_id_, start_time_;
+  std::vector<double> resumed_at_;  // the times this run was resumed from checkpoints
+  double wall_before_ = 0;          // wall seconds of the segments before the latest resume
+
+  double t_ = 0;
+  // The stage now running: which, where it started, its step, frame interval, steps taken, the
+  // index of the latest frame time reached (a double: an interval far below the step makes it
+  // huge), step sizes, and its integrator's counts from segments before a resume.
+  Stage stage_ = mechanics_stage;
+  double stage_t0_ = 0, stage_dt_ = 0, stage_interval_ = 0;
+  long stage_steps_ = 0;
+  double stage_frame_ = 0;
+  StepSizes stage_sizes_;
+  long stage_rhs_before_ = 0;
+  nlohmann::json stage_stats_before_ = nlohmann::json::object();
+  double heat_wall_before_ = 0;
+  std::chrono::steady_clock::time_point heat_start_;
+  double next_checkpoint_ = INFINITY;
+  long last_checkpoint_step_ = -1;
+
+  // Totals of finished stages, the frames' ledger history and coordination numbers.
+  long total_steps_ = 0, total_rhs_ = 0;
+  StepSizes all_steps_;
+  std::vector<double> history_time_, history_error_;
+  double contacts_sum_ = 0;
+  long contact_samples_ = 0;
+  double frozen_at_ = NAN;
+  nlohmann::json frozen_network_, integrator_stats_ = nlohmann::json::object();
+};
+
+SceneRun::SceneRun(const Scene& scene, const RunOptions& options)
+    : scene_(scene), options_(options), system_(scene), progress_(scene.name, options.quiet) {
+  y_ = system_.initial_state();
+  for (const std::string& name : scene.report) observers_.push_back(make_observer(name, system_));
+  integrator_ = make_integrator(scene.integrator, scene.control);
+  heat_integrator_ = scene.frozen || scene.freeze.integrator.empty() ? scene.integrator : scene.freeze.integrator;
+}
+
+void SceneRun::start_fresh() {
+  run_id_ = new_run_id();
+  start_time_ = utc_now();
+  if (scene_.frozen) {
+    system_.prepare(0, y_.data(), 0);
   } else {
-    integrator->start(system, 0.0, y.data(), scene.dt);
+    integrator_->start(system_, 0.0, y_.data(), scene_.dt);
   }
-  const EnergyLedger initial = system.energy(0, y.data());
-  StabilityGuard guard(scene, system, initial);
-  OutputFiles files(options.out_dir, system, scene);
-  Progress progress(scene.name, options.quiet);
-  files.frame(0, y.data());
-  for (auto& o : observers) o->sample(0, y.data());
+  initial_ = system_.energy(0, y_.data());
+  guard_ = std::make_unique<StabilityGuard>(scene_, system_, initial_);
+  if (!options_.out_dir.empty()) {
+    files_ = std::make_unique<RunOutputs>(options_.out_dir, system_, run_id_);
+    files_->frame(0, y_.data());
+  }
+  for (auto& o : observers_) o->sample(0, y_.data());
+  history_time_ = {0.0};
+  history_error_ = {0.0};
+  count_contacts();
+  stage_t0_ = 0;
+  stage_dt_ = scene_.dt;
+  stage_interval_ = scene_.output_interval;
+  if (options_.checkpoint_every > 0) next_checkpoint_ = options_.checkpoint_every;
+}
 
-  std::vector<double> history_time{0.0}, history_error{0.0};
-  double contacts_sum = 0;
-  long contact_samples = 0;
-  auto count_contacts = [&](double t) {
-    const auto c = system.count_contacts(t, y.data());
-    contacts_sum += (2.0 * c.particle_particle + c.particle_wall) / system.particles();
-    ++contact_samples;
-  };
-  count_contacts(0);
-
-  enum class Ended { at_end, at_rest, frozen };
-  long total_steps = 0, total_rhs = 0;
-  StepSizes all_steps;
-  // Steps one stage from t0 to t_end (steps of dt, or adaptive), with a frame every `interval`.
-  // Steps are never cut to land on frames: a frame is the state of the step that reaches its time
-  // (stamped with that step's time). Only the last step may be shorter, to end on t_end.
-  auto run_stage = [&](Integrator& stepper, double t0, double dt, double interval, bool mechanics, double& t,
-                       StepSizes& sizes) {
-    const double tol = 1e-9 * dt;
-    long k = 0, frames = 1;
-    double next_frame = t0 + interval;
-    stepper.set_stop_time(scene.t_end);
-    while (t < scene.t_end - tol) {
-      stepper.step();
-      ++k;
-      t = stepper.time();
-      sizes.add(stepper.stats().last_step);
-      if (mechanics) guard.every_step(t);
-      guard.temperatures(t, y.data());
-      for (auto& o : observers) o->sample(t, y.data());
-      const bool at_end = t >= scene.t_end - tol;
-      if (t >= next_frame - tol || at_end) {
-        guard.finite(t, y.data(), system.layout().size());
-        const EnergyLedger now = system.energy(t, y.data());
-        guard.energy(t, now);
-        history_time.push_back(t);
-        history_error.push_back(balance_error(initial, now));
-        files.frame(t, y.data());
-        count_contacts(t);
-        progress.update(t, scene.t_end);
-        while (next_frame <= t + tol) next_frame = t0 + (++frames) * interval;  // no drift from summing
-        if (mechanics && scene.stop_kinetic_energy > 0 && t >= scene.stop_not_before &&
-            now.kinetic < scene.stop_kinetic_energy)
-          return at_end ? Ended::at_end : Ended::at_rest;
-        if (mechanics && scene.freeze.enabled && !at_end &&
-            ((t >= scene.freeze.not_before && now.kinetic < scene.freeze.kinetic_energy_below) ||
-             t >= scene.freeze.latest))
-          return Ended::frozen;
-      } else if (k % 64 == 0) {
-        guard.finite(t, y.data(), system.layout().size());
-      }
-    }
-    return Ended::at_end;
-  };
-
-  double t = 0, frozen_at = NAN;
-  nlohmann::json frozen_network;  // the conduction network of the frozen stage
+nlohmann::json SceneRun::go() {
+  if (options_.resume) {
+    resume(*options_.resume);
+  } else {
+    start_fresh();
+  }
   Ended ended = Ended::frozen;
-  nlohmann::json integrator_stats;
-  if (!scene.frozen) {
-    StepSizes sizes;
-    guard.set_stage(scene.dt);
-    ended = run_stage(*integrator, 0, scene.dt, scene.output_interval, true, t, sizes);
-    total_steps += sizes.count;  // the steps the run kept (ARKODE's count adds redone ones)
-    total_rhs += integrator->stats().rhs_evals;
-    integrator_stats = integrator->statistics();
-    integrator_stats["step_size"] = sizes.json();
-    all_steps.merge(sizes);
+  if (stage_ == mechanics_stage && !scene_.frozen) {
+    guard_->set_stage(scene_.dt);
+    ended = run_stage(*integrator_, true);
+    close_stage(*integrator_, integrator_stats_);
   }
-  if (ended == Ended::frozen && options.stop_at_freeze) {
-    frozen_at = t;
+  if (stage_ == heat_stage && options_.resume) {
+    ended = run_stage(*heat_stepper_, false);
+    close_stage(*heat_stepper_, scene_.frozen ? integrator_stats_ : integrator_stats_["heat_stage"]);
+  } else if (ended == Ended::frozen && options_.stop_at_freeze) {
+    frozen_at_ = t_;
   } else if (ended == Ended::frozen) {
-    // Freeze: the residual kinetic energy is removed (booked as dissipated), the conductances of
-    // the contact network are fixed, and only the temperatures are integrated from here on.
-    frozen_at = t;
-    const EnergyLedger before = system.energy(t, y.data());
-    for (int k = system.vx_at(); k < system.ledger_at(); ++k) y[k] = 0;
-    y[system.ledger_at() + ledger_damping] += before.kinetic;
-    thermal::FrozenConduction heat = thermal::freeze_network(system, t, y.data());
-    // Explicit stepping of the frozen network is stable below 2 / lambda_max (Gershgorin bound).
-    frozen_network = {{"links", heat.links().size()}, {"explicit_dt_limit", 2 / heat.stiffest_rate()}};
-    const double dt = scene.frozen ? scene.dt : scene.freeze.dt;
-    const double interval = scene.frozen ? scene.output_interval
-                            : scene.freeze.output_interval > 0 ? scene.freeze.output_interval
-                                                               : (scene.t_end - t) / 100;
-    const std::string& heat_integrator =
-        scene.frozen || scene.freeze.integrator.empty() ? scene.integrator : scene.freeze.integrator;
-    std::unique_ptr<Integrator> heat_stepper = make_integrator(heat_integrator, scene.control);
-    const auto heat_start = std::chrono::steady_clock::now();
-    heat_stepper->start(heat, t, y.data() + system.ledger_at(), dt);
-    StepSizes sizes;
-    guard.set_stage(dt, real_stability_of(heat_integrator) / heat.stiffest_rate());
-    if (t < scene.t_end) ended = run_stage(*heat_stepper, t, dt, interval, false, t, sizes);
-    total_steps += sizes.count;
-    total_rhs += heat_stepper->stats().rhs_evals;
-    nlohmann::json& heat_stats = scene.frozen ? integrator_stats : integrator_stats["heat_stage"];
-    heat_stats = heat_stepper->statistics();
-    heat_stats["step_size"] = sizes.json();
-    heat_stats["integrator"] = heat_integrator;
-    heat_stats["dt"] = dt;
-    heat_stats["rhs_evals"] = heat_stepper->stats().rhs_evals;
-    heat_stats["wall_seconds"] = std::chrono::duration<double>(std::chrono::steady_clock::now() - heat_start).count();
-    all_steps.merge(sizes);
+    enter_heat_stage(true, nullptr);
+    ended = t_ < scene_.t_end ? run_stage(*heat_stepper_, false) : Ended::at_end;
+    close_stage(*heat_stepper_, scene_.frozen ? integrator_stats_ : integrator_stats_["heat_stage"]);
   }
-  progress.finish();
-  const EnergyLedger final_energy = system.energy(t, y.data());
-  const double wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+  progress_.finish();
+  nlohmann::json s = summary(ended);
+  if (files_) {
+    std::ostringstream title;
+    title << scene_.name << "  t = " << t_ << " s  (" << scene_.integrator << ")";
+    files_->finish(t_, y_.data(), s, title.str());
+  }
+  if (ended == Ended::signal) {
+    s["stopped_by"] = signal_name(stop_signal());
+    if (files_) s["checkpoint"] = files_->checkpoint_path();
+  }
+  return s;
+}
 
+// Freeze (freezing: at the end of settling; otherwise a thermal-only scene or a resumed heat
+// stage): the residual kinetic energy is removed (booked as dissipated), the conductances of the
+// contact network are fixed, and only the temperatures are integrated from here on.
+void SceneRun::enter_heat_stage(bool freezing, const Snapshot* s) {
+  if (freezing) {
+    frozen_at_ = t_;
+    const EnergyLedger before = system_.energy(t_, y_.data());
+    for (int k = system_.vx_at(); k < system_.ledger_at(); ++k) y_[k] = 0;
+    y_[system_.ledger_at() + ledger_damping] += before.kinetic;
+  }
+  // The network depends only on the frozen positions and contact lists, unchanged since the freeze.
+  network_ = std::make_unique<thermal::FrozenConduction>(thermal::freeze_network(system_, frozen_at_, y_.data()));
+  // Explicit stepping of the frozen network is stable below 2 / lambda_max (Gershgorin bound).
+  frozen_network_ = {{"links", network_->links().size()}, {"explicit_dt_limit", 2 / network_->stiffest_rate()}};
+  heat_stepper_ = make_integrator(heat_integrator_, scene_.control);
+  heat_start_ = std::chrono::steady_clock::now();
+  if (!s) {
+    stage_ = heat_stage;
+    stage_t0_ = t_;
+    stage_dt_ = scene_.frozen ? scene_.dt : scene_.freeze.dt;
+    stage_interval_ = scene_.frozen ? scene_.output_interval
+                      : scene_.freeze.output_interval > 0 ? scene_.freeze.output_interval
+                                                          : (scene_.t_end - t_) / 100;
+    stage_steps_ = 0;
+    stage_frame_ = 0;
+    stage_sizes_ = {};
+    stage_rhs_before_ = 0;
+    stage_stats_before_ = nlohmann::json::object();
+    heat_wall_before_ = 0;
+  }
+  guard_->set_stage(stage_dt_, real_stability_of(heat_integrator_) / network_->stiffest_rate());
+  if (s)
+    heat_stepper_->resume(*network_, y_.data() + system_.ledger_at(), stage_dt_, *s, "integrator.");
+  else
+    heat_stepper_->start(*network_, t_, y_.data() + system_.ledger_at(), stage_dt_);
+}
+
+void SceneRun::count_contacts() {
+  const auto c = system_.count_contacts(t_, y_.data());
+  contacts_sum_ += (2.0 * c.particle_particle + c.particle_wall) / system_.particles();
+  ++contact_samples_;
+}
+
+// A frame: written, checked (finite state, energy), sampled; then the stop conditions, which are
+// decided at frames.
+SceneRun::Ended SceneRun::at_frame(bool moving, bool at_end) {
+  guard_->finite(t_, y_.data(), system_.layout().size());
+  const EnergyLedger now = system_.energy(t_, y_.data());
+  guard_->energy(t_, now);
+  history_time_.push_back(t_);
+  history_error_.push_back(balance_error(initial_, now));
+  if (files_) files_->frame(t_, y_.data());
+  count_contacts();
+  progress_.update(t_, scene_.t_end);
+  if (moving && !at_end && scene_.stop_kinetic_energy > 0 && t_ >= scene_.stop_not_before &&
+      now.kinetic < scene_.stop_kinetic_energy)
+    return Ended::at_rest;
+  if (moving && !at_end && scene_.freeze.enabled &&
+      ((t_ >= scene_.freeze.not_before && now.kinetic < scene_.freeze.kinetic_energy_below) ||
+       t_ >= scene_.freeze.latest))
+    return Ended::frozen;
+  return Ended::at_end;
+}
+
+// Steps one stage to t_end (steps of dt, or adaptive), with a frame every stage_interval_.
+// Steps are never cut to land on frames: a frame is the state of the step that reaches its time
+// (stamped with that step's time), found by index from the stage's start, so any interval, however
+// small against the step, costs one frame per step at most. Only the last step may be shorter, to
+// end on t_end. A checkpoint follows the frame bookkeeping of its step and precedes the extra final
+// frame of a run that ends (or is stopped) off the frame interval: a resumed run writes exactly the
+// frames an uninterrupted one does.
+SceneRun::Ended SceneRun::run_stage(Integrator& stepper, bool moving) {
+  const double tol = 1e-9 * stage_dt_;
+  stepper.set_stop_time(scene_.t_end);
+  while (t_ < scene_.t_end - tol) {
+    stepper.step();
+    ++stage_steps_;
+    t_ = stepper.time();
+    const double h = stepper.stats().last_step;
+    stage_sizes_.add(h);
+    if (moving) guard_->every_step(t_, y_.data(), h);
+    guard_->temperatures(t_, y_.data());
+    for (auto& o : observers_) o->sample(t_, y_.data());
+    const bool at_end = t_ >= scene_.t_end - tol;
+    const bool regular = t_ >= frame_time(stage_frame_ + 1) - tol;
+    Ended ended = Ended::at_end;
+    if (regular) {
+      // The latest frame time this step reached, by one division (counting the intervals passed
+      // one by one never ended for an interval of 1e-300 s), then exact against frame_time().
+      double f = std::max(stage_frame_ + 1, std::floor((t_ - stage_t0_ + tol) / stage_interval_));
+      if (frame_time(f + 1) <= t_ + tol) f += 1;
+      if (f > stage_frame_ + 1 && frame_time(f) > t_ + tol) f -= 1;
+      stage_frame_ = f;
+      ended = at_frame(moving, at_end);
+    } else if (stage_steps_ % 64 == 0) {
+      guard_->finite(t_, y_.data(), system_.layout().size());
+    }
+    const int signal = options_.stop_on_signal ? stop_signal() : 0;
+    const bool stops = at_end || signal || ended == Ended::at_rest;
+    if (t_ >= next_checkpoint_ - tol || (stops && files_)) {
+      while (next_checkpoint_ <= t_ + tol) next_checkpoint_ += options_.checkpoint_every;
+      save_checkpoint();
+    }
+    if (stops && !regular) at_frame(moving, true);
+    if (signal) return Ended::signal;
+    if (ended != Ended::at_end) return ended;
+  }
+  return Ended::at_end;
+}
+
+void SceneRun::close_stage(Integrator& stepper, nlohmann::json& stats) {
+  total_steps_ += stage_sizes_.count;  // the steps the run kept (ARKODE's count adds redone ones)
+  total_rhs_ += stage_rhs_before_ + stepper.stats().rhs_evals;
+  stats = merged_statistics(stage_stats_before_, stepper.statistics());
+  stats["step_size"] = stage_sizes_.json();
+  all_steps_.merge(stage_sizes_);
+  if (stage_ == heat_stage) {
+    stats["integrator"] = heat_integrator_;
+    stats["dt"] = stage_dt_;
+    stats["rhs_evals"] = stage_rhs_before_ + stepper.stats().rhs_evals;
+    stats["wall_seconds"] = heat_wall_before_ + seconds_since(heat_start_);
+  }
+}
+
+// Everything that changes during a run, with the scene it belongs to.
+void SceneRun::save_checkpoint() {
+  if (!files_ || options_.source.text.empty() || last_checkpoint_step_ == total_steps_ + stage_steps_) return;
+  last_checkpoint_step_ = total_steps_ + stage_steps_;
+  Snapshot s;
+  s.put_text("kiln_version", KILN_VERSION);
+  s.put_text("run_id", run_id_);
+  s.put_text("start_time", start_time_);
+  s.put_text("scene.file", options_.source.file);
+  s.put_text("scene.text", options_.source.text);
+  std::string overrides;
+  for (const std::string& o : options_.source.overrides) overrides += o + '\n';
+  s.put_text("scene.overrides", overrides);
+  s.put("scene.output_interval", scene_.output_interval);
+  s.put("time", t_);
+  s.put("state", y_);
+  s.put_integer("frames", files_->frames());
+  s.put("resumed_at", resumed_at_);
+  s.put("wall_seconds", wall_before_ + seconds_since(wall_start_));
+  s.put("initial_ledger", ledger_values(initial_));
+  s.put("history.time", history_time_);
+  s.put("history.balance_error", history_error_);
+  s.put("contacts", {contacts_sum_, static_cast<double>(contact_samples_)});
+  s.put("frozen_at", frozen_at_);
+  s.put_integers("totals", std::vector<long>{total_steps_, total_rhs_});
+  all_steps_.save(s, "all_steps");
+  s.put_text("integrator_stats", integrator_stats_.dump());
+  Integrator& stepper = stage_ == mechanics_stage ? *integrator_ : *heat_stepper_;
+  s.put_integer("stage", stage_);
+  s.put("stage.times", {stage_t0_, stage_dt_, stage_interval_, next_checkpoint_,
+                        stage_ == heat_stage ? heat_wall_before_ + seconds_since(heat_start_) : 0.0});
+  s.put_integers("stage.counts", std::vector<long>{stage_steps_, stage_rhs_before_ + stepper.stats().rhs_evals});
+  s.put("stage.frame", stage_frame_);
+  stage_sizes_.save(s, "stage.step_sizes");
+  s.put_text("stage.statistics", merged_statistics(stage_stats_before_, stepper.statistics()).dump());
+  stepper.save(s, "integrator.");
+  system_.save(s);
+  guard_->save(s);
+  for (size_t k = 0; k < observers_.size(); ++k) observers_[k]->save(s, "observer." + std::to_string(k) + ".");
+  files_->checkpoint(s);
+}
+
+void SceneRun::resume(const Snapshot& s) {
+  run_id_ = s.text("run_id");
+  start_time_ = s.text("start_time");
+  t_ = s.real("time");
+  if (!(scene_.t_end > t_))
+    throw InputError("the checkpoint is at t = " + std::to_string(t_) + " s: give a later --t-end to go on");
+  const std::vector<double>& state = s.reals("state");
+  if (state.size() != y_.size())
+    throw InputError("the checkpoint's state has " + std::to_string(state.size()) + " components, this scene's " +
+                     std::to_string(y_.size()));
+  y_ = state;
+  resumed_at_ = s.reals("resumed_at");
+  resumed_at_.push_back(t_);
+  wall_before_ = s.real("wall_seconds");
+  initial_ = ledger_of(s.reals("initial_ledger"));
+  history_time_ = s.reals("history.time");
+  history_error_ = s.reals("history.balance_error");
+  const std::vector<double>& contacts = s.reals("contacts");
+  contacts_sum_ = contacts.at(0);
+  contact_samples_ = static_cast<long>(contacts.at(1));
+  frozen_at_ = s.real("frozen_at");
+  const std::vector<long long>& totals = s.integers("totals");
+  total_steps_ = totals.at(0);
+  total_rhs_ = totals.at(1);
+  all_steps_.restore(s, "all_steps");
+  integrator_stats_ = nlohmann::json::parse(s.text("integrator_stats"));
+  stage_ = s.integer("stage") == heat_stage ? heat_stage : mechanics_stage;
+  const std::vector<double>& times = s.reals("stage.times");
+  stage_t0_ = times.at(0);
+  stage_dt_ = times.at(1);
+  stage_interval_ = times.at(2);
+  next_checkpoint_ = options_.checkpoint_every > 0 ? times.at(3) : INFINITY;
+  if (options_.checkpoint_every > 0 && !std::isfinite(next_checkpoint_)) next_checkpoint_ = t_ + options_.checkpoint_every;
+  heat_wall_before_ = times.at(4);
+  const std::vector<long long>& counts = s.integers("stage.counts");
+  stage_steps_ = counts.at(0);
+  stage_rhs_before_ = counts.at(1);
+  stage_frame_ = s.real("stage.frame");
+  stage_sizes_.restore(s, "stage.step_sizes");
+  stage_stats_before_ = nlohmann::json::parse(s.text("stage.statistics"));
+  system_.restore(s);
+  guard_ = std::make_unique<StabilityGuard>(scene_, system_, initial_);
+  guard_->restore(s);
+  for (size_t k = 0; k < observers_.size(); ++k) observers_[k]->restore(s, "observer." + std::to_string(k) + ".");
+  if (!options_.out_dir.empty())
+    files_ = std::make_unique<RunOutputs>(options_.out_dir, system_, run_id_, static_cast<int>(s.integer("frames")), s);
+  if (stage_ == mechanics_stage) {
+    integrator_->resume(system_, y_.data(), scene_.dt, s, "integrator.");
+  } else {
+    enter_heat_stage(false, &s);
+  }
+  last_checkpoint_step_ = total_steps_ + stage_steps_;
+}
+
+nlohmann::json SceneRun::summary(Ended ended) {
+  const EnergyLedger final_energy = system_.energy(t_, y_.data());
+  const double wall_seconds = wall_before_ + seconds_since(wall_start_);
   nlohmann::json summary;
-  summary["scene"] = scene.name;
-  summary["integrator"] = scene.integrator;
-  summary["dt"] = scene.dt;
-  summary["t_end"] = t;
-  summary["stopped_early"] = ended == Ended::at_rest;
-  summary["frozen_at"] = std::isfinite(frozen_at) ? nlohmann::json(frozen_at) : nlohmann::json(nullptr);
-  if (!frozen_network.is_null()) summary["frozen_network"] = frozen_network;
-  summary["steps"] = total_steps;
-  summary["step_size"] = all_steps.json();
-  summary["rhs_evals"] = total_rhs;
-  summary["integrator_stats"] = integrator_stats;
-  summary["rtol"] = scene.control.rtol;
+  summary["scene"] = scene_.name;
+  summary["run_id"] = run_id_;
+  summary["start_time"] = start_time_;
+  if (!resumed_at_.empty()) summary["resumed_at"] = resumed_at_;
+  summary["integrator"] = scene_.integrator;
+  summary["dt"] = scene_.dt;
+  summary["t_end"] = t_;
+  summary["stopped_early"] = ended == Ended::at_rest  ? nlohmann::json("at_rest")
+                             : ended == Ended::signal ? nlohmann::json("signal")
+                                                      : nlohmann::json(false);
+  summary["frozen_at"] = std::isfinite(frozen_at_) ? nlohmann::json(frozen_at_) : nlohmann::json(nullptr);
+  if (!frozen_network_.is_null()) summary["frozen_network"] = frozen_network_;
+  summary["steps"] = total_steps_;
+  summary["step_size"] = all_steps_.json();
+  summary["rhs_evals"] = total_rhs_;
+  summary["integrator_stats"] = integrator_stats_;
+  summary["rtol"] = scene_.control.rtol;
   summary["wall_seconds"] = wall_seconds;
-  summary["particle_steps_per_second"] = system.particles() * static_cast<double>(total_steps) / wall_seconds;
-  summary["particles"] = system.particles();
-  summary["rotation"] = system.rotates();
-  summary["thermal"] = system.thermal();
-  summary["mean_contacts"] = contacts_sum / contact_samples;
-  summary["neighbour_rebuilds"] = system.rebuilds();
-  summary["skin"] = system.skin();
-  summary["energy"] = ledger_json(final_energy, initial, system.thermal());
-  summary["energy"]["history"] = {{"time", history_time}, {"balance_error", history_error}};
-  const StabilityEstimate& est = guard.estimate();
+  summary["particle_steps_per_second"] = system_.particles() * static_cast<double>(total_steps_) / wall_seconds;
+  summary["particles"] = system_.particles();
+  summary["rotation"] = system_.rotates();
+  summary["thermal"] = system_.thermal();
+  summary["mean_contacts"] = contacts_sum_ / contact_samples_;
+  summary["neighbour_rebuilds"] = system_.rebuilds();
+  summary["skin"] = system_.skin();
+  summary["energy"] = ledger_json(final_energy, initial_, system_.thermal());
+  summary["energy"]["history"] = {{"time", history_time_}, {"balance_error", history_error_}};
+  const StabilityEstimate& est = guard_->estimate();
   summary["stability"] = {{"contact_duration", est.contact_duration},
                           {"shortest_pair", est.shortest_pair},
                           {"dt_limit", est.dt_limit},
                           {"recommended_dt", est.recommended_dt}};
-  if (system.thermal()) {
+  if (system_.thermal()) {
     summary["stability"]["thermal_dt_limit"] = est.thermal_dt_limit;
     summary["stability"]["thermal_relaxation_time"] = est.thermal_relaxation_time;
   }
-  summary["checks"] = guard.figures();
+  summary["checks"] = guard_->figures();
   summary["kiln_version"] = KILN_VERSION;
-  for (auto& o : observers) o->report(t, y.data(), summary);
-  if (options.final_fields) {
-    const int n = system.particles();
-    FinalFields& f = *options.final_fields;
-    f.position.assign(y.begin() + system.x_at(), y.begin() + system.x_at() + 2 * n);
-    f.velocity.assign(y.begin() + system.vx_at(), y.begin() + system.vx_at() + 2 * n);
-    if (system.thermal()) f.temperature.assign(y.begin() + system.temperature_at(), y.begin() + system.temperature_at() + n);
+  for (auto& o : observers_) o->report(t_, y_.data(), summary);
+  if (options_.final_fields) {
+    const int n = system_.particles();
+    FinalFields& f = *options_.final_fields;
+    f.position.assign(y_.begin() + system_.x_at(), y_.begin() + system_.x_at() + 2 * n);
+    f.velocity.assign(y_.begin() + system_.vx_at(), y_.begin() + system_.vx_at() + 2 * n);
+    if (system_.thermal())
+      f.temperature.assign(y_.begin() + system_.temperature_at(), y_.begin() + system_.temperature_at() + n);
   }
-  files.finish(t, y.data(), summary);
   return summary;
+}
+
+}  // namespace
+
+nlohmann::json run_scene(const Scene& scene, const RunOptions& options) { return SceneRun(scene, options).go(); }
+
+Scene scene_of_checkpoint(const Snapshot& checkpoint, const std::vector<std::string>& overrides, SceneRecord& source) {
+  if (checkpoint.text("kiln_version") != KILN_VERSION)
+    throw InputError("the checkpoint was written by kiln " + checkpoint.text("kiln_version") + ", this is kiln " +
+                     KILN_VERSION + ": its state layout may differ; rerun the scene from the start");
+  source.file = checkpoint.text("scene.file");
+  source.text = checkpoint.text("scene.text");
+  source.overrides.clear();
+  std::istringstream lines(checkpoint.text("scene.overrides"));
+  for (std::string line; std::getline(lines, line);)
+    if (!line.empty()) source.overrides.push_back(line);
+  // The frame interval stays the run's (its default follows t_end, which a resumed run changes).
+  source.overrides.push_back(assignment("output_interval", checkpoint.real("scene.output_interval")));
+  for (const std::string& o : overrides) source.overrides.push_back(o);
+  return parse_scene(source.text, source.file, source.overrides);
 }
 
 }  // namespace kiln

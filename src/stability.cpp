@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
 
 #include "contact/normal_force.h"
@@ -12,35 +13,62 @@ namespace kiln {
 
 namespace {
 
-// Highest speed an impact can have: the fastest initial particle, plus a free fall over the
-// scene's whole height along g, plus the fastest wall point.
 // The highest speeds at which a disc can meet a wall and another disc: a disc moves at most at its
-// largest initial speed plus a free fall over the scene's height plus a moving wall's speed (a
-// wall pushes it), and two discs can approach each other at twice that.
+// largest initial speed (random_velocity included) plus a free fall over the scene's height along
+// g plus a moving wall's speed (a wall pushes it), and two discs can approach each other at twice
+// that. Speeds are taken with hypot, which does not overflow below 1.8e308; a bound that is still
+// not finite (speeds or g near the largest double) is refused by judge_dt.
 struct ImpactSpeeds {
   double wall = 0, pair = 0;
 };
 
+double speed(Vec2 v) { return std::hypot(v.x, v.y); }
+
 ImpactSpeeds impact_speeds(const Scene& scene) {
-  const double g = norm(scene.gravity);
-  const Vec2 down = g > 0 ? (1 / g) * scene.gravity : Vec2{0, -1};
+  const double g = speed(scene.gravity);
+  const Vec2 down = g > 0 ? Vec2{scene.gravity.x / g, scene.gravity.y / g} : Vec2{0, -1};
   double lo = INFINITY, hi = -INFINITY, v0 = 0;
   for (int i = 0; i < scene.n_particles(); ++i) {
     lo = std::min(lo, dot(scene.position[i], down));
     hi = std::max(hi, dot(scene.position[i], down));
-    v0 = std::max(v0, norm(scene.velocity[i]));
+    v0 = std::max(v0, speed(scene.velocity[i]));
   }
   double wall_speed = 0;
   for (const Segment& s : scene.segments) {
     lo = std::min({lo, dot(s.a, down), dot(s.b, down)});
     hi = std::max({hi, dot(s.a, down), dot(s.b, down)});
     const WallMotion& m = scene.walls[s.wall].motion;
-    if (m.kind == WallMotion::Kind::translate) wall_speed = std::max(wall_speed, norm(m.velocity));
+    if (m.kind == WallMotion::Kind::translate) wall_speed = std::max(wall_speed, speed(m.velocity));
     if (m.kind == WallMotion::Kind::rotate)
-      wall_speed = std::max({wall_speed, std::abs(m.omega) * norm(s.a - m.centre), std::abs(m.omega) * norm(s.b - m.centre)});
+      wall_speed = std::max(
+          {wall_speed, std::abs(m.omega) * speed(s.a - m.centre), std::abs(m.omega) * speed(s.b - m.centre)});
   }
-  const double disc = v0 + std::sqrt(2 * g * std::max(0.0, hi - lo)) + wall_speed;
+  const double fall = std::sqrt(2 * g) * std::sqrt(std::max(0.0, hi - lo));
+  const double disc = v0 + fall + wall_speed;
   return {std::max(disc, 1e-3), std::max(2 * disc, 1e-3)};
+}
+
+// More steps than this would not end in any useful time (a step costs a microsecond at the least):
+// refused like an unstable dt, which --force overrides. Adaptive runs are not counted: their dt is
+// only the first guess.
+constexpr double max_steps = 1e9;
+
+// The step count of a stage of `duration` in steps of `step`, if beyond max_steps.
+std::optional<std::string> too_many_steps(const char* step_name, double step, double duration) {
+  const double steps = std::ceil(duration / step);
+  if (steps <= max_steps) return std::nullopt;
+  std::ostringstream s;
+  s << "t_end / " << step_name << " = " << duration << " s / " << step << " s = " << steps
+    << " steps, more than the limit of " << max_steps << " steps: the run would not end in any useful time; raise "
+    << step_name << " or shorten t_end, or run it anyway with --force";
+  return s.str();
+}
+
+// Estimates that are not numbers (NaN) come from masses, stiffnesses or speeds that overflow
+// double precision; every comparison with them would pass.
+bool not_a_number(const StabilityEstimate& e) {
+  return std::isnan(e.contact_duration) || std::isnan(e.dt_limit) || std::isnan(e.rayleigh) ||
+         std::isnan(e.thermal_dt_limit) || std::isnan(e.thermal_dt_limit_network);
 }
 
 void thermal_estimate(const Scene& scene, const std::vector<double>& rmin, const std::vector<int>& count,
@@ -146,59 +174,62 @@ StabilityEstimate estimate_stability(const Scene& scene) {
   return est;
 }
 
-DtVerdict judge_dt(const StabilityEstimate& est, double dt, const Scene& scene) {
-  DtVerdict v;
-  std::ostringstream s;
-  // Explicit conduction: certain for the network that exists at t = 0, an estimate otherwise.
-  // IMEX integrators take conduction implicitly and have no such limit.
-  // The limits are 2 / lambda_max (Euler, Heun, the Verlet schemes' temperatures), scaled by the
-  // integrator's reach along the negative real axis (RK4 2.79 / lambda_max; IMEX: none).
+namespace {
+
+// Explicit conduction: certain for the network that exists at t = 0, an estimate otherwise.
+// IMEX integrators take conduction implicitly and have no such limit.
+// The limits are 2 / lambda_max (Euler, Heun, the Verlet schemes' temperatures), scaled by the
+// integrator's reach along the negative real axis (RK4 2.79 / lambda_max; IMEX: none).
+void judge_conduction(const StabilityEstimate& est, double dt, const Scene& scene, DtVerdict& v) {
   const double reach = real_stability_of(scene.integrator) / 2;
   const std::string& heating = scene.freeze.integrator.empty() ? scene.integrator : scene.freeze.integrator;
   const double heating_reach = real_stability_of(heating) / 2;
-  if (scene.thermal && dt >= reach * est.thermal_dt_limit_network) {
+  std::ostringstream s;
+  if (dt >= reach * est.thermal_dt_limit_network) {
     s << "dt = " << dt << " s is beyond " << scene.integrator << "'s explicit conduction limit "
       << reach * est.thermal_dt_limit_network << " s on the contact network (" << 2 * reach
       << " / lambda_max): the temperatures will blow up";
     v.unstable = true;
     v.warnings.push_back(s.str());
-    return v;
+    return;
   }
-  if (scene.thermal && dt >= reach * est.thermal_dt_limit) {
-    std::ostringstream w;
-    w << "dt = " << dt << " s is beyond " << scene.integrator << "'s explicit conduction limit "
+  if (dt >= reach * est.thermal_dt_limit) {
+    s << "dt = " << dt << " s is beyond " << scene.integrator << "'s explicit conduction limit "
       << reach * est.thermal_dt_limit << " s on a dense packing at 1 % overlap: the temperatures may blow up once "
       << "contacts form";
-    v.warnings.push_back(w.str());
+    v.warnings.push_back(s.str());
   }
-  if (scene.thermal && scene.freeze.enabled && scene.freeze.dt >= heating_reach * est.thermal_dt_limit) {
+  if (scene.freeze.enabled && scene.freeze.dt >= heating_reach * est.thermal_dt_limit) {
     std::ostringstream w;
     w << "freeze.dt = " << scene.freeze.dt << " s is beyond " << heating << "'s explicit conduction limit "
       << heating_reach * est.thermal_dt_limit << " s on a dense packing at 1 % overlap (the settled network's "
       << "own limit is reported by the run as frozen_network.explicit_dt_limit)";
     v.warnings.push_back(w.str());
   }
-  if (scene.frozen) return v;  // no mechanics to judge
+}
+
+void judge_mechanics(const StabilityEstimate& est, double dt, const Scene& scene, DtVerdict& v) {
+  std::ostringstream s;
   // A step that carries a disc past another body by more than the smallest radius can jump over the
   // whole overlap band (2 r wide) without one evaluation inside it: the contact is never seen.
-  double r_min = INFINITY;
-  for (double r : scene.radius) r_min = std::min(r_min, r);
+  const double r_min = *std::min_element(scene.radius.begin(), scene.radius.end());
   const ImpactSpeeds speeds = impact_speeds(scene);
   const double approach = scene.n_particles() > 1 ? speeds.pair : speeds.wall;
-  if (dt * approach > r_min) {
+  if (!std::isfinite(approach)) {
+    s << "the highest impact speed is not a finite number: initial speeds, gravity or wall speeds are too large "
+      << "for double precision (about 1.8e308), so no dt carries a disc safely";
+  } else if (dt * approach > r_min) {
     s << "dt x impact speed = " << dt << " s x " << approach << " m/s = " << dt * approach
       << " m is more than the smallest radius (" << r_min << " m): a disc can pass through a wall or another disc "
       << "between two steps; lower dt below " << r_min / approach << " s";
-    v.unstable = true;
-    v.warnings.push_back(s.str());
-    return v;
-  }
-  if (dt >= est.dt_limit) {
+  } else if (dt >= est.dt_limit) {
     s << "dt = " << dt << " s is beyond the stability limit " << est.dt_limit
       << " s of the stiffest contact: the run will blow up";
+  }
+  if (!s.str().empty()) {
     v.unstable = true;
     v.warnings.push_back(s.str());
-    return v;
+    return;
   }
   const double per_contact = est.contact_duration / dt;
   if (per_contact < 20) {
@@ -214,6 +245,26 @@ DtVerdict judge_dt(const StabilityEstimate& est, double dt, const Scene& scene) 
     r << "dt is " << 100 * dt / est.rayleigh << " % of the Rayleigh time step; 10-30 % is usual";
     v.warnings.push_back(r.str());
   }
+}
+
+}  // namespace
+
+DtVerdict judge_dt(const StabilityEstimate& est, double dt, const Scene& scene) {
+  DtVerdict v;
+  auto refused = [&v](const std::string& why) {
+    v.unstable = true;
+    v.warnings.push_back(why);
+    return v;
+  };
+  if (scene.control.rtol == 0)
+    if (auto why = too_many_steps("dt", dt, scene.t_end)) return refused(*why);
+  if (scene.freeze.enabled && scene.control.rtol == 0)
+    if (auto why = too_many_steps("freeze.dt", scene.freeze.dt, scene.t_end)) return refused(*why);
+  if (not_a_number(est))
+    return refused("the time-step estimates are not numbers: the scene's masses, stiffnesses, conductivities or "
+                   "speeds overflow double precision (about 1.8e308)");
+  if (scene.thermal) judge_conduction(est, dt, scene, v);
+  if (!v.unstable && !scene.frozen) judge_mechanics(est, dt, scene, v);
   return v;
 }
 

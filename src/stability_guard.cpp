@@ -47,12 +47,36 @@ StabilityGuard::StabilityGuard(const Scene& scene, const DemSystem& sys, const E
   }
 }
 
-void StabilityGuard::every_step(double t) {
+void StabilityGuard::every_step(double t, const double* y, double h) {
   ++steps_;
   if (sys_.max_overlap_fraction() > scene_.max_overlap_fraction) {
     std::ostringstream s;
     s << "overlap reached " << sys_.max_overlap_fraction() << " of a radius (limit " << scene_.max_overlap_fraction
       << ", checks.max_overlap_fraction)";
+    fail(t, s.str());
+  }
+  // (v h)^2 against r^2 per particle: no division or root in the loop, and no overflow of v^2. The
+  // speed after the step stands for the step's: a particle accelerated past its radius in one
+  // step is caught at the step that follows.
+  const double *vx = y + sys_.vx_at(), *vy = y + sys_.vy_at();
+  int fastest = -1;
+  double worst = 1;
+  for (int i = 0; i < sys_.particles(); ++i) {
+    const double dx = vx[i] * h, dy = vy[i] * h;
+    const double travel2 = dx * dx + dy * dy, r2 = sys_.radius(i) * sys_.radius(i);
+    if (travel2 > worst * r2) {
+      worst = travel2 / r2;
+      fastest = i;
+    }
+  }
+  if (fastest >= 0) {
+    const double speed = std::hypot(vx[fastest], vy[fastest]);  // hypot: no overflow
+    std::ostringstream s;
+    s << "particle " << fastest << " moves " << speed * h << " m in one step (speed " << speed << " m/s x step " << h
+      << " s), more than its radius " << sys_.radius(fastest)
+      << " m: it can pass through a wall or another particle between two evaluations; at this speed the step must "
+         "stay below radius / speed = "
+      << sys_.radius(fastest) / speed << " s";
     fail(t, s.str());
   }
 }
@@ -119,8 +143,16 @@ void StabilityGuard::energy(double t, const EnergyLedger& now) {
   // bounce the kinetic energy and the potential change are back to zero, and an error of 1e-6 of
   // the bounce read as a blow-up. Both signs count: a dashpot driven unstable books negative
   // dissipation, so the energy it creates shows as a loss in the balance.
-  largest_exchange_ = std::max(largest_exchange_, exchanged(initial_, now));
   const double error = balance_error(initial_, now);
+  // A finite state can still hold energies that overflow (a speed of 1e155 m/s squares to
+  // infinity); infinity minus infinity would then pass every comparison below.
+  if (!std::isfinite(error) || !std::isfinite(exchanged(initial_, now))) {
+    std::ostringstream s;
+    s << "energy overflow: the ledger holds a non-finite energy (kinetic " << now.kinetic << " J, potential "
+      << now.potential << " J, elastic " << now.elastic << " J)";
+    fail(t, s.str());
+  }
+  largest_exchange_ = std::max(largest_exchange_, exchanged(initial_, now));
   if (!(largest_exchange_ > 0)) return;
   const double relative = std::abs(error) / largest_exchange_;
   if (relative > worst_relative_error_) {
@@ -171,6 +203,25 @@ void StabilityGuard::fail(double t, const std::string& what) const {
               ? "; conduction limit " + std::to_string(estimate_.thermal_dt_limit) + " s)"
               : std::string(")"));
   throw InstabilityError(s.str());
+}
+
+void StabilityGuard::save(Snapshot& s) const {
+  s.put("checks.measured", {largest_exchange_, worst_relative_error_, worst_error_time_, overshoot_, overshoot_time_,
+                            previous_excursion_});
+  s.put_integers("checks.counts", std::vector<long>{steps_, overshoot_particle_});
+}
+
+void StabilityGuard::restore(const Snapshot& s) {
+  const std::vector<double>& m = s.reals("checks.measured");
+  largest_exchange_ = m.at(0);
+  worst_relative_error_ = m.at(1);
+  worst_error_time_ = m.at(2);
+  overshoot_ = m.at(3);
+  overshoot_time_ = m.at(4);
+  previous_excursion_ = m.at(5);
+  const std::vector<long long>& counts = s.integers("checks.counts");
+  steps_ = counts.at(0);
+  overshoot_particle_ = static_cast<int>(counts.at(1));
 }
 
 }  // namespace kiln

@@ -10,6 +10,7 @@
 #include "src/dem_system.h"
 #include "src/energy.h"
 #include "src/scene.h"
+#include "src/snapshot.h"
 #include "src/stability.h"
 
 namespace kiln {
@@ -17,8 +18,11 @@ namespace kiln {
 class StabilityGuard {
  public:
   StabilityGuard(const Scene& scene, const DemSystem& sys, const EnergyLedger& initial);
-  // After every mechanical step: the largest overlap against checks.max_overlap_fraction.
-  void every_step(double t);
+  // After every mechanical step of length h ending in state y: the largest overlap against
+  // checks.max_overlap_fraction, and the largest displacement in a step against the particle's
+  // radius (a particle that moves more than its radius in one step can pass through a wall or
+  // another particle between two evaluations, unseen).
+  void every_step(double t, const double* y, double h);
   // At frames and every 64 steps: a finite state, and the energy check on the state's ledger.
   void finite(double t, const double* y, int size);
   // After every step of a thermal scene: temperatures within the maximum principle of conduction
@@ -34,6 +38,9 @@ class StabilityGuard {
   nlohmann::json figures() const;
   // The stage now running, for the message: its step, and for a stage of heat alone the explicit
   // conduction limit of its network (NaN for the mechanical stage).
+  // Checkpoints: what the checks have measured so far (keys "checks.*").
+  void save(Snapshot& s) const;
+  void restore(const Snapshot& s);
   void set_stage(double dt, double heat_limit = NAN) {
     dt_ = dt;
     heat_limit_ = heat_limit;

@@ -143,6 +143,7 @@ nlohmann::json run_order_study(const OrderOptions& o_in) {
   if (!o.quiet) std::printf("%s on %s, %s at t = %g s, reference %s\n\n%s", o.quantity.c_str(), base.name.c_str(),
                             "max abs error", t_end, o.reference.c_str(), table.str().c_str());
   if (!o.out_dir.empty()) write_study(o.out_dir, "order", out, csv.str());
+  require_a_result(jobs);
   return out;
 }
 

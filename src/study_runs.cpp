@@ -138,8 +138,15 @@ std::vector<double> study_reference(const Scene& scene, const std::string& path,
   if (!scene.frozen && jumps) tight.push_back("contact_events=true");
   std::vector<StudyRun> fine = {StudyRun("erk5", fine_dt, tight)};
   run_study(path, sets, t_end, quantity, fine, 1);
-  if (!fine[0].failure.empty()) throw std::runtime_error("the fine reference run failed: " + fine[0].failure);
+  if (!fine[0].failure.empty()) throw StudyError("the fine reference run failed: " + fine[0].failure);
   return fine[0].value;
+}
+
+void require_a_result(const std::vector<StudyRun>& runs) {
+  if (runs.empty() || std::any_of(runs.begin(), runs.end(), [](const StudyRun& r) { return r.failure.empty(); }))
+    return;
+  throw StudyError("every run of the study failed (" + std::to_string(runs.size()) + " runs); the first: " +
+                   runs.front().failure);
 }
 
 nlohmann::json study_header(const Scene& scene, const std::string& quantity, const std::string& reference, double t_end) {

@@ -48,6 +48,9 @@ std::vector<double> study_reference(const Scene& scene, const std::string& path,
                                     const std::string& quantity, double t_end, const std::string& kind, double fine_dt,
                                     double fine_rtol, bool heat_stage = false);
 
+// A study whose every run failed has no figure to report: StudyError naming the first run's reason.
+void require_a_result(const std::vector<StudyRun>& runs);
+
 // The fields every study's JSON opens with.
 nlohmann::json study_header(const Scene& scene, const std::string& quantity, const std::string& reference, double t_end);
 

@@ -126,6 +126,7 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
       std::printf("no stability boundary inside the sweep; the estimate's limit is %.5g s (%s)\n", limit, limit_kind);
   }
   if (!o.out_dir.empty()) write_study(o.out_dir, "sweep", out, csv.str());
+  require_a_result(first);
   return out;
 }
 

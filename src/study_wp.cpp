@@ -74,7 +74,7 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
     for (int m = 0; m < members; ++m) ref.push_back(make_run(o.integrators.front(), finest, m));
     run_study(o.scene, o.sets, t_end, o.quantity, ref, o.threads, o.quiet, o.heat_stage);
     for (const StudyRun& r : ref)
-      if (!r.failure.empty()) throw std::runtime_error("an ensemble reference run failed: " + r.failure);
+      if (!r.failure.empty()) throw StudyError("an ensemble reference run failed: " + r.failure);
     const auto [mean, se] = ensemble_mean(ref, 0, members);
     reference = {mean};
     reference_se = se;
@@ -162,6 +162,7 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
     std::printf("\n%s", table.str().c_str());
   }
   if (!o.out_dir.empty()) write_study(o.out_dir, "wp", out, csv.str());
+  require_a_result(runs);
   return out;
 }
 

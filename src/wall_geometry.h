@@ -17,6 +17,14 @@ void add_polyline(std::vector<Segment>& out, const std::vector<Vec2>& points, bo
 // deviate from the true arc by at most `tolerance` (sagitta R (1 - cos(dphi/2)) <= tolerance).
 std::vector<Vec2> arc_points(Vec2 centre, double radius, double from, double to, double tolerance);
 
+// Distance from point p to the segment from a to b (its end points included).
+inline double distance_to_segment(Vec2 p, Vec2 a, Vec2 b) {
+  const Vec2 ab = b - a;
+  const double len2 = dot(ab, ab);
+  const double s = len2 > 0 ? std::clamp(dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
+  return norm(p - (a + s * ab));
+}
+
 // Contact of a disc (centre c, radius r) with segment `s` whose current endpoints are a[s], b[s].
 // A vertex shared by two segments belongs to one of them: the later segment (its end a), and only
 // when the disc lies beyond the neighbour's face too; otherwise the neighbour's face carries the

@@ -33,7 +33,7 @@ output_interval: 0.001
 
 }  // namespace
 
-TEST_CASE("an elastic gas of 500 discs keeps its energy over 10^5 steps with every Verlet integrator", "[conservation]") {
+TEST_CASE("an elastic gas of 500 discs keeps its energy over 10^5 steps with every Verlet integrator", "[conservation][heavy]") {
   // dt is 1/51 of the shortest contact (5.1e-5 s). Each collision leaves an O(dt^2) energy error
   // that depends on where its onset falls inside a step, so the total wanders like a random walk
   // (measured: at most 2.1e-5 of the energy over these 10^5 steps, 2e-3 at dt = 4e-6): it must
@@ -53,7 +53,7 @@ TEST_CASE("an elastic gas of 500 discs keeps its energy over 10^5 steps with eve
   }
 }
 
-TEST_CASE("broadphase: every overlapping pair of a long random flow is a candidate pair", "[broadphase]") {
+TEST_CASE("broadphase: every overlapping pair of a long random flow is a candidate pair", "[broadphase][heavy]") {
   // A small skin and fast particles force many rebuilds; after every step the candidate lists are
   // compared with a brute-force search over all pairs and all wall segments. Velocity Verlet
   // evaluates where it stands; Runge-Kutta stages run ahead of the step's start, and a step that

@@ -8,7 +8,7 @@
 
 using namespace kiln;
 
-TEST_CASE("T6 drum at 30 rpm: the bed rides up the rising side, the halves mix and heat is kept", "[drum]") {
+TEST_CASE("T6 drum at 30 rpm: the bed rides up the rising side, the halves mix and heat is kept", "[drum][heavy]") {
   const Scene scene = load_scene(testing::case_path("t6_drum.yaml"));
   const nlohmann::json s = run_scene(scene, {"", true});
   const auto& h = s["mixing_history"];

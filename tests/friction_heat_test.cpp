@@ -36,7 +36,7 @@ std::string sliding_disc(double v0) {
 
 }  // namespace
 
-TEST_CASE("a sliding disc turns mu F_n |u_t| into heat, shared with the floor by beta", "[friction-heat]") {
+TEST_CASE("a sliding disc turns mu F_n |u_t| into heat, shared with the floor by beta", "[friction-heat][heavy]") {
   const double v0 = 1.0, r = 0.002, m = M_PI * r * r * 0.002 * 8900;
   const Scene scene = parse_scene(sliding_disc(v0), "sliding.yaml");
   const auto s = run_scene(scene, {"", true});
@@ -53,7 +53,7 @@ TEST_CASE("a sliding disc turns mu F_n |u_t| into heat, shared with the floor by
   CHECK(std::abs(s["energy"]["balance_error"].get<double>()) < 1e-3 * 0.5 * m * v0 * v0);
 }
 
-TEST_CASE("without conversion the same slide dissipates as much but heats nothing", "[friction-heat]") {
+TEST_CASE("without conversion the same slide dissipates as much but heats nothing", "[friction-heat][heavy]") {
   const Scene scene = parse_scene(sliding_disc(1.0), "sliding.yaml", {"heat_from_dissipation=none"});
   const auto s = run_scene(scene, {"", true});
   CHECK(s["energy"]["dissipated_friction"].get<double>() > 0);

@@ -195,7 +195,7 @@ std::string rolling_disc(const std::string& model, double slope_deg, double v0) 
 }  // namespace
 
 TEST_CASE("rolling resistance holds a disc still on a slope below its rolling angle, under both models",
-          "[friction]") {
+          "[friction][heavy]") {
   // tan(2 deg) = 0.035 < mu_r = 0.05. Before, the constant torque flipped sign every step and the
   // disc crept down the slope at a speed proportional to dt (8.6e-7 m/s at dt = 1e-6 s).
   for (const std::string model : {"constant", "epsd"}) {
@@ -212,7 +212,7 @@ TEST_CASE("rolling resistance holds a disc still on a slope below its rolling an
 }
 
 TEST_CASE("a disc rolling on a flat floor stops where the constant rolling torque says, under both models",
-          "[friction]") {
+          "[friction][heavy]") {
   // Rolling without slip against M = mu_r R F_n: the speed falls at (5/7) mu_r g, so the disc
   // stops after v0 / ((5/7) mu_r g) and v0^2 / (2 (5/7) mu_r g). The rolling spring's elastic
   // wind-up (epsd: M_max / k_r, a few micrometres here) moves the stop by that much (measured:

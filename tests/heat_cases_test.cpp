@@ -166,14 +166,14 @@ TEST_CASE("N1: heat is kept exactly and every temperature approaches the mean wi
   fs::remove_all(dir);
 }
 
-TEST_CASE("L1: the hot and cold halves of a pressed line both reach the mean, 0 C", "[heat]") {
+TEST_CASE("L1: the hot and cold halves of a pressed line both reach the mean, 0 C", "[heat][heavy]") {
   const auto s = run_case("l1_aligned_equilibrium.yaml");
   CHECK(s["temperature_mean_left"].get<double>() == Approx(0).margin(0.01));
   CHECK(s["temperature_mean_right"].get<double>() == Approx(0).margin(0.01));
   CHECK(std::abs(s["energy"]["thermal_change"].get<double>()) < 1e-9);  // adiabatic walls
 }
 
-TEST_CASE("L2: between walls at 0 C and 50 C the final temperatures are linear in x", "[heat]") {
+TEST_CASE("L2: between walls at 0 C and 50 C the final temperatures are linear in x", "[heat][heavy]") {
   const auto s = run_case("l2_aligned_wall_heating.yaml");
   const auto fit = s["temperature_fit"];
   // Linear: the residual of the straight-line fit is nothing against the 50 C span.
@@ -190,7 +190,7 @@ TEST_CASE("L2: between walls at 0 C and 50 C the final temperatures are linear i
 
 TEST_CASE("T5: a hot half and a cold half fall into a heap; heat is kept exactly while it spreads", "[heat]") {
   const auto s = run_case("t5_hot_heap.yaml", {"particles.0.fill.count=150"});
-  CHECK(s["stopped_early"].get<bool>());
+  CHECK(s["stopped_early"] == "at_rest");
   CHECK(s["heap_angle_deg"].get<double>() > 3);
   const double heat = s["heat_content"].get<double>();
   CHECK(std::abs(s["energy"]["thermal_change"].get<double>()) < 1e-12 * std::abs(heat));
@@ -210,7 +210,7 @@ TEST_CASE("T5: a hot half and a cold half fall into a heap; heat is kept exactly
   CHECK(s["temperature_min"].get<double>() >= 0);
 }
 
-TEST_CASE("freeze: a settled pile keeps its positions while heat moves with a large step", "[heat]") {
+TEST_CASE("freeze: a settled pile keeps its positions while heat moves with a large step", "[heat][heavy]") {
   const fs::path dir = fs::temp_directory_path() / ("kiln_freeze_" + std::to_string(::getpid()));
   const auto s = run_case("t5_hot_heap.yaml",
                           {"particles.0.fill.count=100", "stop=null",

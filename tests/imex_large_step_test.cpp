@@ -158,7 +158,7 @@ TEST_CASE("both linear solvers give the same IMEX temperatures on F1, each with 
 }
 
 TEST_CASE("N2's frozen heating: imex3, imex4 and imex5 from 10x the network's explicit limit converge at their "
-          "orders to the exact network solution", "[imex][n2]") {
+          "orders to the exact network solution", "[imex][n2][heavy]") {
   // The bed settles once; its frozen network is then integrated for 30 minutes directly. The
   // network's explicit limit is about 91 s (Hertz steel contacts conduct little), so 30 minutes
   // is 20 explicit steps: N2 is not stiff, and steps of 900 s (10x) still give 0.1 K.

@@ -51,7 +51,7 @@ Eigen::VectorXd chain_model(double t) {
 }  // namespace
 
 TEST_CASE("N2 reduced: the settled steel bed heats row by row as Hertz conduction through its weight predicts",
-          "[heat][n2]") {
+          "[heat][n2][heavy]") {
   FinalFields f;
   const Scene scene = load_scene(testing::case_path("n2_heated_steel_bed.yaml"));
   const nlohmann::json s = run_scene(scene, {"", true, &f});

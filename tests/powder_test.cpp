@@ -22,7 +22,7 @@ nlohmann::json run_powder(const std::string& integrator, double dt, FinalFields*
 }  // namespace
 
 TEST_CASE("P1 fine powder: IMEX runs at 6x the step where explicit conduction blows up, to the same temperatures",
-          "[heat][powder]") {
+          "[heat][powder][heavy]") {
   // The measured explicit boundary is 7.6e-6 s (erk4); IMEX's mechanical one 6.2e-5 s.
   const double big = 4.5e-5;
   CHECK_THROWS_AS(run_powder("erk4", big, nullptr), InstabilityError);

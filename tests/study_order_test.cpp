@@ -120,7 +120,7 @@ TEST_CASE("kiln wp: the error falls monotonically with dt and the JSON has the d
 }
 
 TEST_CASE("kiln wp --seeds: the error is the difference of ensemble means with its standard error as the noise",
-          "[study]") {
+          "[study][heavy]") {
   // A small drum (40 discs, 50 ms): chaotic, so compared over three fills.
   WorkPrecisionOptions o;
   o.scene = testing::case_path("t6_drum.yaml");

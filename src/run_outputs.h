@@ -1,0 +1,65 @@
+// The files of one run in its output directory: result.h5 (frames), result.xdmf, summary.json,
+// picture.png and checkpoint.h5.
+//
+// While the run goes, frames go to result.h5.tmp, flushed at every frame; checkpoints are written
+// whole and renamed. When the run ends (at t_end, at rest, or stopped by a signal) everything is
+// published under its final name. A run that fails removes what it wrote and publishes nothing;
+// a run killed outright (SIGKILL, power) leaves result.h5.tmp with its finished frames readable
+// and its last checkpoint, from which `kiln run --restart` goes on.
+//
+// A resumed run appends to a copy (result.h5.tmp) of its result: result.h5, or result.h5.killed,
+// the frames a killed run left (its result.h5.tmp, renamed). The original is replaced only when
+// the resumed run ends; one that fails leaves it, and the checkpoint it resumed from, as they were
+// (a write that fails on a full disk can leave an HDF5 file unreadable, so the file holding finished
+// frames is never written in place).
+//
+// A new run first moves the results of an earlier run in the same directory into previous/
+// (replacing what an even earlier run left there), so that nothing of two runs lies side by side.
+#pragma once
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "src/dem_system.h"
+#include "src/output_h5.h"
+#include "src/snapshot.h"
+
+namespace kiln {
+
+class RunOutputs {
+ public:
+  // A new run with id `run_id` (recorded in result.h5 and summary.json).
+  RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id);
+  // A resumed run from `checkpoint`: a copy of its result, cut to the checkpoint's frames. Throws
+  // InputError when the result is missing or belongs to another run.
+  RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id, int frames,
+             const Snapshot& checkpoint);
+  // Unless finish() ran, the temporary files are removed; a new run also removes its checkpoint,
+  // a resumed run puts back the checkpoint it resumed from.
+  ~RunOutputs();
+  RunOutputs(const RunOutputs&) = delete;
+  RunOutputs& operator=(const RunOutputs&) = delete;
+
+  void frame(double t, const double* y);
+  int frames() const { return h5_->frames(); }
+  void checkpoint(const Snapshot& s);
+  std::string checkpoint_path() const { return path("checkpoint.h5"); }
+  void finish(double t, const double* y, const nlohmann::json& summary, const std::string& title);
+
+  // The names a run writes, final and temporary (a new run moves these aside).
+  static const std::vector<std::string>& names();
+
+ private:
+  std::string path(const std::string& name) const;
+  void write_header();
+  std::string dir_;
+  const DemSystem& sys_;
+  std::unique_ptr<H5Frames> h5_;
+  std::vector<double> times_;
+  bool checkpointed_ = false;  // this run wrote checkpoint.h5
+  bool done_ = false;
+  const Snapshot* resumed_from_ = nullptr;  // a resumed run's checkpoint
+};
+
+}  // namespace kiln

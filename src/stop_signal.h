@@ -1,0 +1,18 @@
+// SIGINT and SIGTERM ask a run to stop where it is: the handler only records the signal, and the
+// run, between two steps, writes its frame, its summary and a checkpoint, then exits 130 or 143.
+// A second signal of either kind ends the process at once (the default action, restored by the
+// first), so a run that does not stop can still be killed.
+#pragma once
+
+namespace kiln {
+
+// Installs the handlers (kiln run). Without them (studies, tests) the signals keep their defaults.
+void catch_stop_signals();
+// The signal received since, or 0.
+int stop_signal();
+// For tests: as if `signal` had been received (0 clears).
+void set_stop_signal(int signal);
+// "SIGINT" or "SIGTERM".
+const char* signal_name(int signal);
+
+}  // namespace kiln

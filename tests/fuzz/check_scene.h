@@ -1,0 +1,41 @@
+// What the scene fuzzer does with one input, shared with the test that replays its findings
+// (tests/hostile_input_test.cpp): the path `kiln check` takes up to its verdict (read and
+// validate, make the integrator, estimate the time step, judge dt), without running. A bad scene
+// ends in an InputError, which is caught; anything else escapes and is a finding.
+//
+// Lines after a line "#--set" are --set assignments, so that overrides are fuzzed too (the scene
+// above stays valid YAML: the marker is a comment).
+#pragma once
+#include <cstdint>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "integrators/integrator.h"
+#include "src/error.h"
+#include "src/scene_yaml.h"
+#include "src/stability.h"
+
+namespace kiln::fuzz {
+
+// Scenes may claim 64 MB here, not the machine's memory: the fuzzer stops at -rss_limit_mb=2048,
+// and the time a big legal scene takes to fill is no finding.
+constexpr uint64_t memory = uint64_t{64} << 20;
+
+inline void check_scene(const std::string& input) {
+  const std::string marker = "\n#--set\n";
+  const size_t at = input.find(marker);
+  std::vector<std::string> sets;
+  if (at != std::string::npos) {
+    std::istringstream lines(input.substr(at + marker.size()));
+    for (std::string line; std::getline(lines, line);) sets.push_back(line);
+  }
+  try {
+    const Scene scene = parse_scene(input.substr(0, at), "fuzz.yaml", sets, memory);
+    make_integrator(scene.integrator, scene.control);
+    judge_dt(estimate_stability(scene), scene.dt, scene);
+  } catch (const InputError&) {
+  }
+}
+
+}  // namespace kiln::fuzz
