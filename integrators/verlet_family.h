@@ -40,10 +40,12 @@ class VerletFamily : public Integrator {
 
  protected:
   // t_n = t_0 + n dt: no drift from summing dt. The step that would pass the stop time ends on it
-  // instead (a run's last step, when t_end is not a multiple of dt; within 1e-9 dt it is a whole
-  // step of dt that lands there: when t_end is on the grid, the step a longer run takes there).
+  // instead (a run's last step, when t_end is not a multiple of dt). Within 1e-9 dt it is a whole
+  // step of dt, stamped with its grid time (0.049999999999999996 for 25000 steps of 2e-6 s, not the
+  // 0.05 asked): the step and the time a longer run has there, so that a resumed run continues bit
+  // for bit, time stamps included.
   bool lands_on_stop() const { return t0_ + static_cast<double>(count_ + 1) * dt_ > stop_ - 1e-9 * dt_; }
-  double next_time() const { return lands_on_stop() ? stop_ : t0_ + static_cast<double>(count_ + 1) * dt_; }
+  double next_time() const { return step_length() < dt_ ? stop_ : t0_ + static_cast<double>(count_ + 1) * dt_; }
   // The length of the step about to be taken: dt, or the shorter remainder to the stop time.
   double step_length() const { return lands_on_stop() && stop_ - t_ < dt_ * (1 - 1e-9) ? stop_ - t_ : dt_; }
   void advance_time() {

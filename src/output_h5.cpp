@@ -114,6 +114,30 @@ void H5Frames::append(double t, const double* x, const double* y, const double* 
   ++frames_;
 }
 
+int H5Frames::frames_of_run(const std::string& path, const std::string& run_id) {
+  h5_setup();
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  int frames = -1;
+  if (file >= 0 && H5Aexists(file, "run_id") > 0) {
+    const hid_t attr = H5Aopen(file, "run_id", H5P_DEFAULT);
+    const hid_t type = H5Aget_type(attr);
+    std::string id(H5Tget_size(type), '\0');
+    const bool read = H5Aread(attr, type, id.data()) >= 0;
+    H5Tclose(type);
+    H5Aclose(attr);
+    const hid_t ds = H5Dopen2(file, "time", H5P_DEFAULT);
+    if (read && id.substr(0, id.find('\0')) == run_id && ds >= 0) {
+      const hid_t space = H5Dget_space(ds);
+      frames = static_cast<int>(H5Sget_simple_extent_npoints(space));
+      H5Sclose(space);
+    }
+    if (ds >= 0) H5Dclose(ds);
+  }
+  if (file >= 0) H5Fclose(file);
+  H5Eclear2(H5E_DEFAULT);
+  return frames;
+}
+
 std::vector<double> H5Frames::times() const {
   std::vector<double> t(frames_);
   if (frames_ == 0) return t;

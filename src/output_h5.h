@@ -32,6 +32,9 @@ class H5Frames {
   void append(double t, const double* x, const double* y, const double* vx, const double* vy, const double* angle,
               const double* omega, const double* temperature);
   int frames() const { return frames_; }
+  // The frames of run `run_id` that the file at `path` holds, read only; -1 when it cannot be read
+  // or is another run's.
+  static int frames_of_run(const std::string& path, const std::string& run_id);
   std::vector<double> times() const;  // the time of every frame
   void close();    // checked: the last writes may fail here
   void abandon();  // closes without checking (a run that failed: the file is removed)

@@ -1,6 +1,12 @@
 #include "src/run_outputs.h"
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include "src/error.h"
@@ -45,53 +51,82 @@ void move_aside(const std::string& dir) {
 
 }  // namespace
 
-RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id) : dir_(dir), sys_(sys) {
+// One run at a time per directory: two runs writing into one would publish a mix of both. The
+// lock is the kernel's (flock), so it goes with the process however that ends.
+void RunOutputs::lock_directory() {
   make_directory(dir_);
+  lock_ = ::open(path(".kiln.lock").c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+  if (lock_ < 0) throw OutputError("cannot create " + path(".kiln.lock") + ": " + std::strerror(errno));
+  if (::flock(lock_, LOCK_EX | LOCK_NB) != 0)
+    throw InputError(dir_ + " is in use by another kiln run (it holds " + path(".kiln.lock") +
+                     "): wait for it to end, or give another --out");
+}
+
+RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id) : dir_(dir), sys_(sys) {
+  lock_directory();
   move_aside(dir_);
-  h5_ = std::make_unique<H5Frames>(path("result.h5.tmp"), sys.particles(), sys.thermal());
-  const Scene& scene = sys.scene();
-  h5_->attribute("scene", scene.name);
-  h5_->attribute("integrator", scene.integrator);
-  h5_->attribute("dt", scene.dt);
-  h5_->attribute("kiln_version", KILN_VERSION);
-  h5_->attribute("run_id", run_id);
-  std::vector<double> r(sys.particles());
-  for (int i = 0; i < sys.particles(); ++i) r[i] = sys.radius(i);
-  h5_->write_constant(r);
+  try {
+    h5_ = std::make_unique<H5Frames>(path("result.h5.tmp"), sys.particles(), sys.thermal());
+    const Scene& scene = sys.scene();
+    h5_->attribute("scene", scene.name);
+    h5_->attribute("integrator", scene.integrator);
+    h5_->attribute("dt", scene.dt);
+    h5_->attribute("kiln_version", KILN_VERSION);
+    h5_->attribute("run_id", run_id);
+    std::vector<double> r(sys.particles());
+    for (int i = 0; i < sys.particles(); ++i) r[i] = sys.radius(i);
+    h5_->write_constant(r);
+  } catch (...) {
+    if (h5_) h5_->abandon();
+    h5_.reset();
+    std::remove(path("result.h5.tmp").c_str());
+    throw;
+  }
 }
 
 RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id, int frames,
                        const Snapshot& checkpoint)
     : dir_(dir), sys_(sys), resumed_from_(&checkpoint) {
+  lock_directory();
+  // The result holding this run's frames up to the checkpoint: the result.h5.tmp of a killed run
+  // (a killed resumed run's holds more than result.h5), the frames of a killed run kept by an
+  // earlier restart (result.h5.killed), or the published result.h5.
+  std::string original;
+  for (const char* name : {"result.h5.tmp", "result.h5.killed", "result.h5"})
+    if (fs::exists(path(name)) && H5Frames::frames_of_run(path(name), run_id) >= frames) {
+      original = name;
+      break;
+    }
+  if (original.empty())
+    throw InputError(dir_ + ": none of result.h5, result.h5.tmp (a killed run's) and result.h5.killed holds the " +
+                     std::to_string(frames) + " frames of run '" + run_id +
+                     "' that the checkpoint continues: a result of another run, or frames lost");
   std::error_code error;
-  // The frames a killed run left are kept under a name of their own while a copy is extended.
-  if (!fs::exists(path("result.h5")) && fs::exists(path("result.h5.tmp"))) {
+  if (original == "result.h5.tmp") {  // kept under a name of its own while a copy is extended
     fs::rename(path("result.h5.tmp"), path("result.h5.killed"), error);
     if (error) throw OutputError("cannot rename " + path("result.h5.tmp") + ": " + error.message());
+    original = "result.h5.killed";
   }
-  const std::string original = fs::exists(path("result.h5")) ? path("result.h5") : path("result.h5.killed");
-  if (!fs::exists(original))
-    throw InputError(dir_ + ": no result.h5 (nor the result.h5.tmp of a killed run) is here: the frames of the run "
-                     "to resume are gone");
-  fs::copy_file(original, path("result.h5.tmp"), fs::copy_options::overwrite_existing, error);
-  if (error) {
-    std::remove(path("result.h5.tmp").c_str());
-    throw OutputError("cannot copy " + original + " to " + path("result.h5.tmp") + ": " + error.message());
-  }
-  h5_ = std::make_unique<H5Frames>(path("result.h5.tmp"), sys.particles(), sys.thermal(), frames);
-  const std::string id = h5_->text_attribute("run_id");
-  if (id != run_id) {
-    h5_->abandon();
+  fs::copy_file(path(original), path("result.h5.tmp"), fs::copy_options::overwrite_existing, error);
+  try {
+    if (error)
+      throw OutputError("cannot copy " + path(original) + " to " + path("result.h5.tmp") + ": " + error.message());
+    h5_ = std::make_unique<H5Frames>(path("result.h5.tmp"), sys.particles(), sys.thermal(), frames);
+    times_ = h5_->times();
+  } catch (...) {
+    if (h5_) h5_->abandon();
     h5_.reset();
     std::remove(path("result.h5.tmp").c_str());
-    throw InputError(original + " belongs to run '" + id + "', the checkpoint to run '" + run_id +
-                     "': resume from the checkpoint written beside that result");
+    throw;
   }
-  times_ = h5_->times();
 }
 
 RunOutputs::~RunOutputs() {
-  if (done_ || !h5_) return;
+  if (!done_ && h5_) clean_up();
+  if (lock_ >= 0) ::close(lock_);  // the lock goes last, after every file is in place
+}
+
+void RunOutputs::clean_up() {
   h5_->abandon();
   for (const char* name : {"result.h5.tmp", "result.xdmf.tmp", "summary.json.tmp", "picture.png.tmp",
                            "checkpoint.h5.tmp"})

@@ -13,6 +13,9 @@
 // (a write that fails on a full disk can leave an HDF5 file unreadable, so the file holding finished
 // frames is never written in place).
 //
+// One run writes into a directory at a time: each holds an exclusive lock on DIR/.kiln.lock; a
+// second is refused.
+//
 // A new run first moves the results of an earlier run in the same directory into previous/
 // (replacing what an even earlier run left there), so that nothing of two runs lies side by side.
 #pragma once
@@ -52,7 +55,8 @@ class RunOutputs {
 
  private:
   std::string path(const std::string& name) const;
-  void write_header();
+  void lock_directory();
+  void clean_up();  // a run that did not finish
   std::string dir_;
   const DemSystem& sys_;
   std::unique_ptr<H5Frames> h5_;
@@ -60,6 +64,7 @@ class RunOutputs {
   bool checkpointed_ = false;  // this run wrote checkpoint.h5
   bool done_ = false;
   const Snapshot* resumed_from_ = nullptr;  // a resumed run's checkpoint
+  int lock_ = -1;                            // the directory's .kiln.lock, held while the run writes
 };
 
 }  // namespace kiln

@@ -187,7 +187,9 @@ Material read_material(const std::string& name, const SceneNode& m) {
   m.allow();
   Material mat;
   mat.name = name;
-  if (auto v = m.optional("density")) mat.density = v->positive();
+  // Up to 1e12 kg/m^3: osmium's 22,590 scaled up by 1e7 or more (density scaling, to lengthen the
+  // step); beyond, masses of large particles overflow (1e300 made an infinite mass that blamed dt).
+  if (auto v = m.optional("density")) mat.density = v->in_range(0, 1e12, true, false);
   if (auto v = m.optional("youngs_modulus")) mat.youngs_modulus = v->positive();
   if (auto v = m.optional("poisson_ratio")) mat.poisson_ratio = v->in_range(-1, 0.5, true, false);
   if (auto v = m.optional("stiffness")) mat.stiffness = v->positive();
@@ -684,7 +686,8 @@ void check_integrators(const SceneNode& root, const Scene& scene) {
 // The steps: integrator, tolerances, dt, t_end and frames.
 void read_stepping(const SceneNode& root, Scene& scene) {
   if (auto i = root.optional("integrator")) scene.integrator = i->text();
-  if (auto r = root.optional("rtol")) scene.control.rtol = r->in_range(0, 1, true, true);
+  // Below 1e-14 no integrator can meet the tolerance in double precision: ARKODE fails its steps.
+  if (auto r = root.optional("rtol")) scene.control.rtol = r->in_range(1e-14, 1, false, true);
   // atol: a number for every component, or per field {position, velocity, angle, temperature, other}.
   if (auto a = root.optional("atol")) {
     if (a->is_map()) {

@@ -152,6 +152,9 @@ class SceneRun {
   void save_checkpoint();
   void close_stage(Integrator& stepper, nlohmann::json& stats);
   nlohmann::json summary(Ended ended);
+  double checkpoint_every() const {
+    return options_.checkpoint_every > 0 ? options_.checkpoint_every : scene_.t_end / 20;
+  }
   double frame_time(double index) const { return stage_t0_ + index * stage_interval_; }
 
   const Scene& scene_;
@@ -227,7 +230,10 @@ void SceneRun::start_fresh() {
   stage_t0_ = 0;
   stage_dt_ = scene_.dt;
   stage_interval_ = scene_.output_interval;
-  if (options_.checkpoint_every > 0) next_checkpoint_ = options_.checkpoint_every;
+  // A run killed at any point can be resumed: a checkpoint of the start, then one every
+  // checkpoint_every (a twentieth of the run by default).
+  next_checkpoint_ = checkpoint_every();
+  save_checkpoint();
 }
 
 nlohmann::json SceneRun::go() {
@@ -366,7 +372,7 @@ SceneRun::Ended SceneRun::run_stage(Integrator& stepper, bool moving) {
     const int signal = options_.stop_on_signal ? stop_signal() : 0;
     const bool stops = at_end || signal || ended == Ended::at_rest;
     if (t_ >= next_checkpoint_ - tol || (stops && files_)) {
-      while (next_checkpoint_ <= t_ + tol) next_checkpoint_ += options_.checkpoint_every;
+      while (next_checkpoint_ <= t_ + tol) next_checkpoint_ += checkpoint_every();
       save_checkpoint();
     }
     if (stops && !regular) at_frame(moving, true);
@@ -463,8 +469,7 @@ void SceneRun::resume(const Snapshot& s) {
   stage_t0_ = times.at(0);
   stage_dt_ = times.at(1);
   stage_interval_ = times.at(2);
-  next_checkpoint_ = options_.checkpoint_every > 0 ? times.at(3) : INFINITY;
-  if (options_.checkpoint_every > 0 && !std::isfinite(next_checkpoint_)) next_checkpoint_ = t_ + options_.checkpoint_every;
+  next_checkpoint_ = options_.checkpoint_every > 0 ? t_ + options_.checkpoint_every : times.at(3);
   heat_wall_before_ = times.at(4);
   const std::vector<long long>& counts = s.integers("stage.counts");
   stage_steps_ = counts.at(0);

@@ -28,8 +28,8 @@ struct RunOptions {
   bool quiet = false;
   FinalFields* final_fields = nullptr;  // filled at the end when given
   bool stop_at_freeze = false;          // end where the mechanics freeze (the settled state)
-  // Runs with files and a recorded source: checkpoint.h5 every `checkpoint_every` seconds of
-  // simulated time (0: none on the way), always at the run's end and when a signal stops it.
+  // Runs with files and a recorded source: checkpoint.h5 at the start, every `checkpoint_every`
+  // seconds of simulated time (0: a twentieth of t_end), at the run's end and when a signal stops it.
   double checkpoint_every = 0;
   SceneRecord source = {};
   // SIGINT and SIGTERM (caught by the caller, src/stop_signal.h) stop the run between two steps.

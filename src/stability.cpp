@@ -48,12 +48,8 @@ ImpactSpeeds impact_speeds(const Scene& scene) {
   return {std::max(disc, 1e-3), std::max(2 * disc, 1e-3)};
 }
 
-// More steps than this would not end in any useful time (a step costs a microsecond at the least):
-// refused like an unstable dt, which --force overrides. Adaptive runs are not counted: their dt is
-// only the first guess.
-constexpr double max_steps = 1e9;
+}  // namespace
 
-// The step count of a stage of `duration` in steps of `step`, if beyond max_steps.
 std::optional<std::string> too_many_steps(const char* step_name, double step, double duration) {
   const double steps = std::ceil(duration / step);
   if (steps <= max_steps) return std::nullopt;
@@ -63,6 +59,8 @@ std::optional<std::string> too_many_steps(const char* step_name, double step, do
     << step_name << " or shorten t_end, or run it anyway with --force";
   return s.str();
 }
+
+namespace {
 
 // Estimates that are not numbers (NaN) come from masses, stiffnesses or speeds that overflow
 // double precision; every comparison with them would pass.

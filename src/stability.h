@@ -1,12 +1,21 @@
 // Time-step estimates for a scene, printed by `kiln check` and quoted when a run goes unstable.
 #pragma once
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "src/scene.h"
 
 namespace kiln {
+
+// More fixed steps than this would not end in any useful time (a step costs a microsecond at the
+// least): refused like an unstable dt (which --force overrides); studies refuse such runs too.
+// Adaptive runs are not counted: their dt is only the first guess.
+constexpr double max_steps = 1e9;
+// The message refusing a stage of `duration` in steps of `step` (named `step_name`) when it has
+// more than max_steps steps; nothing otherwise.
+std::optional<std::string> too_many_steps(const char* step_name, double step, double duration);
 
 struct StabilityEstimate {
   double contact_duration = INFINITY;  // shortest contact among the pairs the scene can form (s)

@@ -13,6 +13,7 @@
 #include "integrators/integrator.h"
 #include "src/error.h"
 #include "src/scene_yaml.h"
+#include "tests/support.h"
 #include "src/nearest.h"
 #include "src/stability.h"
 #include "tests/fuzz/check_scene.h"
@@ -21,18 +22,7 @@ using namespace kiln;
 
 namespace {
 
-const std::string scene = R"(name: ok
-materials:
-  copper: {density: 8900, stiffness: 6000, restitution: 0.8}
-particles:
-  - material: copper
-    radius: 0.002
-    at: [[0.0, 0.01], [0.01, 0.01]]
-walls:
-  - {name: floor, material: copper, segment: [[-0.1, 0], [0.1, 0]]}
-dt: 1.0e-6
-t_end: 0.01
-)";
+const std::string& scene = testing::two_discs_on_a_floor;
 
 // Parses `text` and returns the error message (empty if it parsed).
 std::string error_of(const std::string& text, const std::vector<std::string>& sets = {},
@@ -52,6 +42,10 @@ std::string replaced(std::string text, const std::string& from, const std::strin
 }
 
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+// What tells a refusal from a hang (these inputs took minutes or never ended): generous, so that a
+// loaded machine or a sanitizer build (10 to 20 times slower) does not fail it. Not a speed goal.
+constexpr double hang_bound = 20;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -101,7 +95,7 @@ TEST_CASE("lattice rows x columns are counted in 64 bits against the machine's m
   CHECK(has(huge, "1 x 2147483647 = 2147483647 particles"));
   CHECK(has(huge, "this machine's memory"));
   CHECK(has(error_of(lattice("4294967298", "4294967298")), "more than the"));  // the product overflows 64 bits
-  CHECK(seconds_since(t0) < 1);
+  CHECK(seconds_since(t0) < hang_bound);
   // The limit follows the memory given: 1 MB holds 1024 discs at 1 kB each (less the floor's segment).
   CHECK(has(error_of(lattice("2", "513"), {}, 1 << 20), "more than the 1024"));
   CHECK(error_of(lattice("2", "500"), {}, 1 << 20).empty());
@@ -124,7 +118,7 @@ TEST_CASE("a fill count beyond the memory and more than a million attempts per d
   const std::string attempts = error_of(replaced(replaced(fill, "COUNT", "10"), "ATTEMPTS", "9223372036854775807"));
   CHECK(has(attempts, "key 'particles.0.fill.attempts'"));
   CHECK(has(attempts, "[1, 1000000]"));
-  CHECK(seconds_since(t0) < 1);
+  CHECK(seconds_since(t0) < hang_bound);
 }
 
 TEST_CASE("a megabyte integrator name is refused at once, in the scene and by name", "[hostile]") {
@@ -135,7 +129,7 @@ TEST_CASE("a megabyte integrator name is refused at once, in the scene and by na
   CHECK(has(msg, "3000000 characters"));
   CHECK(msg.size() < 300);
   CHECK_THROWS_AS(make_integrator(name), InputError);
-  CHECK(seconds_since(t0) < 1);
+  CHECK(seconds_since(t0) < hang_bound);
 }
 
 TEST_CASE("the nearest-name suggestion costs no more for a megabyte typed than for a short typo", "[hostile]") {
@@ -143,7 +137,7 @@ TEST_CASE("the nearest-name suggestion costs no more for a megabyte typed than f
   for (const IntegratorInfo& info : integrator_catalogue()) names.push_back(info.name);
   const auto t0 = std::chrono::steady_clock::now();
   CHECK(choices_nearest_first(std::string(3'000'000, 'x'), names).size() < 2000);
-  CHECK(seconds_since(t0) < 0.5);
+  CHECK(seconds_since(t0) < hang_bound);
   CHECK(choices_nearest_first("velocity-verlett" + std::string(3'000'000, 'x'), {"verlet", "velocity-verlet"})
             .rfind("'velocity-verlet'", 0) == 0);
 }
@@ -166,7 +160,7 @@ TEST_CASE("a restitution outside [0.01, 1] is refused, saying why; any restituti
     CHECK(contact::restitution_for_damping(contact::restitution_damping(0.01, law, law), law, law) ==
           Approx(0.01).epsilon(1e-6));
   }
-  CHECK(seconds_since(t0) < 5);
+  CHECK(seconds_since(t0) < hang_bound);
 }
 
 TEST_CASE("values outside their physical range are refused at their key", "[hostile]") {
@@ -230,7 +224,7 @@ TEST_CASE("aliases that expand a scene beyond its own size are refused before it
               char(c - 1) + ", *" + char(c - 1) + ", *" + char(c - 1) + "]\n";
   const auto t0 = std::chrono::steady_clock::now();
   CHECK(has(error_of(laughs + scene), "aliases (*name) repeat a part of it too often"));
-  CHECK(seconds_since(t0) < 1);
+  CHECK(seconds_since(t0) < hang_bound);
 }
 
 TEST_CASE("lists nested thousands deep and more than 16 materials are refused before anything is built",
@@ -345,8 +339,15 @@ TEST_CASE("every hostile input the fuzzer or issue 11 found ends in a scene or a
     INFO(entry.path().filename().string());
     const auto t0 = std::chrono::steady_clock::now();
     CHECK_NOTHROW(fuzz::check_scene(text.str()));
-    CHECK(seconds_since(t0) < 5);
+    CHECK(seconds_since(t0) < hang_bound);
     ++replayed;
   }
   CHECK(replayed > 0);
+}
+
+TEST_CASE("a density whose mass overflows is refused at its key instead of running into an energy overflow",
+          "[hostile]") {
+  CHECK_THROWS_WITH(load_scene(testing::case_path("t1_free_fall.yaml"), {"materials.copper.density=1e300"}),
+                    Catch::Contains("key 'materials.copper.density'") && Catch::Contains("(0, 1000000000000]"));
+  CHECK_NOTHROW(load_scene(testing::case_path("t1_free_fall.yaml"), {"materials.copper.density=8.9e10"}));
 }

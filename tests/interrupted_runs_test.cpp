@@ -29,12 +29,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("kiln_interrupt_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  return dir;
-}
-
 struct Outcome {
   int exit_code = -1;  // -1 when ended by a signal
   int signal = 0;      // the signal that ended it
@@ -46,7 +40,9 @@ struct Outcome {
 // ENOSPC). With `send`, the signal goes to kiln once `ready()` holds.
 Outcome run_kiln(const std::vector<std::string>& args, long file_limit = 0, int send = 0,
                  const std::function<bool()>& ready = {}) {
-  const fs::path err_file = fs::temp_directory_path() / ("kiln_stderr_" + std::to_string(::getpid()));
+  static int calls = 0;  // one file per call: a call may run inside another's wait
+  const fs::path err_file =
+      fs::temp_directory_path() / ("kiln_stderr_" + std::to_string(::getpid()) + "_" + std::to_string(++calls));
   const pid_t pid = fork();
   if (pid == 0) {
     const int err = open(err_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -144,7 +140,7 @@ TEST_CASE("a run stopped at half its time and resumed gives frames bit-identical
     const double t_end = integrator == "erk4" ? 0.012 : 0.04;
     std::vector<std::string> sets = drum_sets;
     sets.push_back("integrator=" + integrator);
-    const fs::path whole = fresh_dir("whole"), halves = fresh_dir("halves");
+    const fs::path whole = testing::fresh_dir("whole"), halves = testing::fresh_dir("halves");
     std::vector<std::string> whole_sets = sets, half_sets = sets;
     whole_sets.push_back(assignment("t_end", t_end));
     half_sets.push_back(assignment("t_end", t_end / 2));
@@ -166,7 +162,7 @@ TEST_CASE("a run stopped at half its time and resumed gives frames bit-identical
 
 TEST_CASE("SIGTERM stops a run with its frames, summary and checkpoint, exit 143; the restart continues bit for bit",
           "[checkpoint][signal][heavy]") {
-  const fs::path whole = fresh_dir("term_whole"), dir = fresh_dir("term");
+  const fs::path whole = testing::fresh_dir("term_whole"), dir = testing::fresh_dir("term");
   run_whole({"output_interval=0.004", "t_end=0.06"}, whole);
   // Signalled once its first checkpoint exists, somewhere in the middle of the run.
   const Outcome o = run_kiln({"run", drum, "--set", "output_interval=0.004", "--t-end", "0.06", "--checkpoint-every",
@@ -193,7 +189,7 @@ TEST_CASE("SIGTERM stops a run with its frames, summary and checkpoint, exit 143
 }
 
 TEST_CASE("SIGINT (Ctrl-C) stops a run the same way with exit 130", "[signal]") {
-  const fs::path dir = fresh_dir("int");
+  const fs::path dir = testing::fresh_dir("int");
   const Outcome o = run_kiln({"run", drum, "--t-end", "0.5", "--quiet", "--out", dir.string()}, 0, SIGINT,
                              [&] { return fs::exists(dir / "result.h5.tmp"); });
   REQUIRE(o.exit_code == 130);
@@ -205,20 +201,20 @@ TEST_CASE("SIGINT (Ctrl-C) stops a run the same way with exit 130", "[signal]") 
 
 TEST_CASE("a run killed outright leaves its finished frames readable and resumes from its last checkpoint",
           "[checkpoint][signal][heavy]") {
-  const fs::path whole = fresh_dir("kill_whole"), dir = fresh_dir("kill");
+  const fs::path whole = testing::fresh_dir("kill_whole"), dir = testing::fresh_dir("kill");
   run_whole({"output_interval=0.004", "t_end=0.06"}, whole);
   const auto start = std::chrono::steady_clock::now();
   const Outcome o = run_kiln({"run", drum, "--set", "output_interval=0.004", "--t-end", "0.06", "--checkpoint-every",
                               "0.01", "--quiet", "--out", dir.string()},
                              0, SIGKILL, [&] {
                                return fs::exists(dir / "checkpoint.h5") &&
-                                      std::chrono::steady_clock::now() - start > std::chrono::milliseconds(250);
+                                      std::chrono::steady_clock::now() - start > std::chrono::milliseconds(400);
                              });
   REQUIRE(o.signal == SIGKILL);
   CHECK_FALSE(fs::exists(dir / "result.h5"));  // nothing under a final name but the checkpoint
   CHECK_FALSE(fs::exists(dir / "summary.json"));
   const auto time = testing::read_dataset(dir / "result.h5.tmp", "time");
-  CHECK(time.size() >= 3);  // readable: the frames up to the first checkpoint at least
+  CHECK(!time.empty());  // readable, with the frames flushed before the kill
   const Outcome r = run_kiln({"run", "--restart", (dir / "checkpoint.h5").string(), "--quiet"});
   REQUIRE(r.exit_code == 0);
   CHECK(same_bits(frames_of(whole / "result.h5"), frames_of(dir / "result.h5")));
@@ -229,7 +225,7 @@ TEST_CASE("a run killed outright leaves its finished frames readable and resumes
 TEST_CASE("a full disk ends the run with one message naming the file, exit 4, nothing published, no temporaries",
           "[outputs]") {
   // 200 KiB per file: result.h5 of the drum passes it after a few dozen frames.
-  const fs::path dir = fresh_dir("full");
+  const fs::path dir = testing::fresh_dir("full");
   const Outcome o = run_kiln({"run", drum, "--t-end", "0.2", "--set", "output_interval=0.001", "--quiet", "--out",
                               dir.string()},
                              200 * 1024);
@@ -246,7 +242,7 @@ TEST_CASE("a full disk ends the run with one message naming the file, exit 4, no
 TEST_CASE("a text output that cannot be written is an OutputError naming the file and its partial file is removed",
           "[outputs]") {
   // In a child whose files may not exceed 4 KiB, as on a disk that fills up while writing.
-  const fs::path file = fresh_dir("text_output");
+  const fs::path file = testing::fresh_dir("text_output");
   const pid_t pid = fork();
   if (pid == 0) {
     std::signal(SIGXFSZ, SIG_IGN);
@@ -271,7 +267,7 @@ TEST_CASE("a text output that cannot be written is an OutputError naming the fil
 
 TEST_CASE("a new run moves an earlier run's results into previous/ and records its own run id and start time",
           "[outputs]") {
-  const fs::path dir = fresh_dir("previous");
+  const fs::path dir = testing::fresh_dir("previous");
   const std::vector<std::string> run = {"run", testing::case_path("t1_free_fall.yaml"), "--t-end", "0.01", "--quiet",
                                         "--out", dir.string()};
   REQUIRE(run_kiln(run).exit_code == 0);
@@ -292,7 +288,7 @@ TEST_CASE("a new run moves an earlier run's results into previous/ and records i
 
 TEST_CASE("a restart refuses a checkpoint of another kiln version, another scene, or a result of another run",
           "[checkpoint]") {
-  const fs::path dir = fresh_dir("refuse");
+  const fs::path dir = testing::fresh_dir("refuse");
   run_whole({"t_end=0.002"}, dir);
   Snapshot s = Snapshot::read((dir / "checkpoint.h5").string());
   SceneRecord source;
@@ -305,19 +301,19 @@ TEST_CASE("a restart refuses a checkpoint of another kiln version, another scene
   CHECK(other.exit_code == 2);
   CHECK(other.err.find("is a checkpoint of scene file") != std::string::npos);
   // Its frames must be the run's own: another run's result.h5 is refused.
-  const fs::path elsewhere = fresh_dir("refuse_other");
+  const fs::path elsewhere = testing::fresh_dir("refuse_other");
   run_whole({"t_end=0.002"}, elsewhere);
   fs::copy_file(elsewhere / "result.h5", dir / "result.h5", fs::copy_options::overwrite_existing);
   const Outcome mixed = run_kiln({"run", "--restart", (dir / "checkpoint.h5").string(), "--t-end", "0.004"});
   CHECK(mixed.exit_code == 2);
-  CHECK(mixed.err.find("belongs to run") != std::string::npos);
+  CHECK(mixed.err.find("holds the") != std::string::npos);
   fs::remove_all(dir);
   fs::remove_all(elsewhere);
 }
 
 TEST_CASE("an output interval far below the step gives one frame per step and ends", "[outputs]") {
   const Scene scene = load_scene(testing::case_path("t1_free_fall.yaml"), {"t_end=0.001", "output_interval=1e-300"});
-  const fs::path dir = fresh_dir("tiny_interval");
+  const fs::path dir = testing::fresh_dir("tiny_interval");
   RunOptions o;
   o.out_dir = dir.string();
   o.quiet = true;
@@ -350,7 +346,7 @@ TEST_CASE("exit codes: a NaN or zero argument is bad input with a short message;
     CHECK(o.err.size() < 300);
   }
   CHECK(run_kiln({"run", scene, "--no-such-option"}).exit_code == 2);
-  const fs::path dir = fresh_dir("study_failed");
+  const fs::path dir = testing::fresh_dir("study_failed");
   const Outcome study = run_kiln({"sweep", scene, "--integrator", "velocity-verlet", "--dt-min", "1e-3", "--dt-max",
                                   "2e-3", "--points", "2", "--t-end", "0.2", "--quiet", "--out", dir.string()});
   CHECK(study.exit_code == 5);
@@ -373,7 +369,7 @@ TEST_CASE("energies that overflow stop a forced run instead of ending it with ex
 
 TEST_CASE("a resumed run that fails keeps the earlier frames and the checkpoint, and resumes again once the cause "
           "is gone", "[checkpoint][heavy]") {
-  const fs::path dir = fresh_dir("resume_fails"), whole = fresh_dir("resume_fails_whole");
+  const fs::path dir = testing::fresh_dir("resume_fails"), whole = testing::fresh_dir("resume_fails_whole");
   run_whole({"output_interval=0.004", "t_end=0.008"}, dir);
   run_whole({"output_interval=0.004", "t_end=0.04"}, whole);
   const std::vector<double> time_before = testing::read_dataset(dir / "result.h5", "time");
@@ -393,6 +389,38 @@ TEST_CASE("a resumed run that fails keeps the earlier frames and the checkpoint,
   // With room again, the restart goes on and ends as the uninterrupted run.
   REQUIRE(run_kiln({"run", "--restart", (dir / "checkpoint.h5").string(), "--t-end", "0.04", "--quiet"}).exit_code == 0);
   CHECK(same_bits(frames_of(whole / "result.h5"), frames_of(dir / "result.h5")));
+  fs::remove_all(dir);
+  fs::remove_all(whole);
+}
+
+TEST_CASE("a second run into a directory in use is refused; a killed resumed run resumes from its own frames",
+          "[checkpoint][heavy]") {
+  const fs::path dir = testing::fresh_dir("in_use"), whole = testing::fresh_dir("in_use_whole");
+  // While a run writes, a second one into the same directory is refused (they used to publish a mix).
+  const std::vector<std::string> long_run = {"run", drum, "--t-end", "0.5", "--quiet", "--out", dir.string()};
+  Outcome second;
+  const Outcome first = run_kiln(long_run, 0, SIGTERM, [&] {
+    if (!fs::exists(dir / "checkpoint.h5")) return false;
+    second = run_kiln({"run", testing::case_path("t1_free_fall.yaml"), "--t-end", "0.01", "--quiet", "--out",
+                       dir.string()});
+    return true;
+  });
+  CHECK(first.exit_code == 143);
+  CHECK(second.exit_code == 2);
+  CHECK(second.err.find("is in use by another kiln run") != std::string::npos);
+  // A resumed run killed outright, then resumed again: from the frames the killed one extended.
+  fs::remove_all(dir);
+  run_whole({"output_interval=0.004", "t_end=0.02"}, dir);
+  run_whole({"output_interval=0.004", "t_end=0.08"}, whole);
+  const auto start = std::chrono::steady_clock::now();
+  const Outcome killed = run_kiln({"run", "--restart", (dir / "checkpoint.h5").string(), "--t-end", "0.08",
+                                   "--checkpoint-every", "0.004", "--quiet"},
+                                  0, SIGKILL,
+                                  [&] { return std::chrono::steady_clock::now() - start > std::chrono::milliseconds(700); });
+  REQUIRE(killed.signal == SIGKILL);
+  REQUIRE(run_kiln({"run", "--restart", (dir / "checkpoint.h5").string(), "--t-end", "0.08", "--quiet"}).exit_code == 0);
+  CHECK(same_bits(frames_of(whole / "result.h5"), frames_of(dir / "result.h5")));
+  CHECK_FALSE(fs::exists(dir / "result.h5.killed"));
   fs::remove_all(dir);
   fs::remove_all(whole);
 }

@@ -21,16 +21,10 @@ namespace fs = std::filesystem;
 
 namespace {
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("kiln_test_" + name + "_" + std::to_string(::getpid()));
-  fs::remove_all(dir);
-  return dir;
-}
-
 }  // namespace
 
 TEST_CASE("kiln run writes result.h5, result.xdmf, summary.json and picture.png, nothing temporary", "[outputs]") {
-  const fs::path dir = fresh_dir("outputs");
+  const fs::path dir = testing::fresh_dir("outputs");
   const std::string cmd = std::string(KILN_BINARY) + " run " + testing::case_path("t1_free_fall.yaml") +
                           " --t-end 0.01 --quiet --out " + dir.string();
   REQUIRE(std::system(cmd.c_str()) == 0);
@@ -55,7 +49,7 @@ TEST_CASE("kiln run writes result.h5, result.xdmf, summary.json and picture.png,
 }
 
 TEST_CASE("a bad --set on the command line fails with exit code 2 and writes nothing", "[outputs]") {
-  const fs::path dir = fresh_dir("bad");
+  const fs::path dir = testing::fresh_dir("bad");
   const std::string cmd = std::string(KILN_BINARY) + " run " + testing::case_path("t1_free_fall.yaml") +
                           " --set materials.copper.density=-1 --quiet --out " + dir.string() + " 2>/dev/null";
   CHECK(WEXITSTATUS(std::system(cmd.c_str())) == 2);
@@ -66,7 +60,7 @@ TEST_CASE("the same scene and options give bit-identical result.h5 data", "[outp
   const Scene scene = load_scene(testing::case_path("t3_heap.yaml"), {"particles.0.fill.count=100", "t_end=0.05"});
   std::vector<std::vector<double>> runs;
   for (int k = 0; k < 2; ++k) {
-    const fs::path dir = fresh_dir("determinism" + std::to_string(k));
+    const fs::path dir = testing::fresh_dir("determinism" + std::to_string(k));
     run_scene(scene, {dir.string(), true});
     std::vector<double> all;
     for (const char* name : {"time", "position", "velocity", "angle", "angular_velocity"}) {
@@ -84,7 +78,7 @@ TEST_CASE("a step beyond the stability limit stops with the failed check, the ti
   const Scene scene = load_scene(testing::case_path("t1_free_fall.yaml"), {"dt=5e-4", "t_end=0.2"});
   const StabilityEstimate est = estimate_stability(scene);
   CHECK(judge_dt(est, scene.dt, scene).unstable);  // kiln check and kiln run refuse it up front
-  const fs::path dir = fresh_dir("unstable");
+  const fs::path dir = testing::fresh_dir("unstable");
   try {
     run_scene(scene, {dir.string(), true});
     FAIL("the run did not stop");

@@ -5,23 +5,13 @@
 #include "integrators/integrator.h"
 #include "src/error.h"
 #include "src/scene_yaml.h"
+#include "tests/support.h"
 
 using namespace kiln;
 
 namespace {
 
-const std::string good = R"(name: ok
-materials:
-  copper: {density: 8900, stiffness: 6000, restitution: 0.8}
-particles:
-  - material: copper
-    radius: 0.002
-    at: [[0.0, 0.01], [0.01, 0.01]]
-walls:
-  - {material: copper, segment: [[-0.1, 0], [0.1, 0]]}
-dt: 1.0e-6
-t_end: 0.01
-)";
+const std::string& good = testing::two_discs_on_a_floor;
 
 // Parses `text` and returns the error message (empty if it parsed).
 std::string error_of(const std::string& text, const std::vector<std::string>& sets = {}) {

@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include <hdf5.h>
 
 #include <filesystem>
@@ -39,6 +41,28 @@ struct Run {
   double vy(int i) const { return y[system->vy_at() + i]; }
   double omega(int i) const { return system->rotates() ? y[system->omega_at() + i] : 0.0; }
 };
+
+// A small valid scene: two copper discs above a floor (the base of the bad-input tests).
+inline const std::string two_discs_on_a_floor = R"(name: ok
+materials:
+  copper: {density: 8900, stiffness: 6000, restitution: 0.8}
+particles:
+  - material: copper
+    radius: 0.002
+    at: [[0.0, 0.01], [0.01, 0.01]]
+walls:
+  - {name: floor, material: copper, segment: [[-0.1, 0], [0.1, 0]]}
+dt: 1.0e-6
+t_end: 0.01
+)";
+
+// An empty directory of the system's temporary directory, unique to this test process.
+inline std::filesystem::path fresh_dir(const std::string& name) {
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / ("kiln_test_" + name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  return dir;
+}
 
 inline std::string case_path(const std::string& name) { return std::string(KILN_CASES_DIR) + "/" + name; }
 inline std::string case_text(const std::string& name) {
