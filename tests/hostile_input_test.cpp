@@ -19,28 +19,14 @@
 #include "tests/fuzz/check_scene.h"
 
 using namespace kiln;
+using testing::error_of;
+using testing::replaced;
 
 namespace {
 
 const std::string& scene = testing::two_discs_on_a_floor;
 
 // Parses `text` and returns the error message (empty if it parsed).
-std::string error_of(const std::string& text, const std::vector<std::string>& sets = {},
-                     uint64_t memory = physical_memory()) {
-  try {
-    parse_scene(text, "bad.yaml", sets, memory);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const size_t at = text.find(from);
-  REQUIRE(at != std::string::npos);
-  return text.replace(at, from.size(), to);
-}
-
 bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
 
 // What tells a refusal from a hang (these inputs took minutes or never ended): generous, so that a

@@ -8,27 +8,14 @@
 #include "tests/support.h"
 
 using namespace kiln;
+using testing::error_of;
+using testing::replaced;
 
 namespace {
 
 const std::string& good = testing::two_discs_on_a_floor;
 
 // Parses `text` and returns the error message (empty if it parsed).
-std::string error_of(const std::string& text, const std::vector<std::string>& sets = {}) {
-  try {
-    parse_scene(text, "bad.yaml", sets);
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
-std::string replaced(std::string text, const std::string& from, const std::string& to) {
-  const size_t at = text.find(from);
-  REQUIRE(at != std::string::npos);
-  return text.replace(at, from.size(), to);
-}
-
 }  // namespace
 
 TEST_CASE("a good scene parses", "[errors]") { CHECK(error_of(good).empty()); }

@@ -9,12 +9,14 @@
 
 #include <unistd.h>
 
+#include <catch2/catch.hpp>
 #include <hdf5.h>
 
 #include <filesystem>
 
 #include "integrators/integrator.h"
 #include "src/dem_system.h"
+#include "src/error.h"
 #include "src/scene_yaml.h"
 
 namespace kiln::testing {
@@ -62,6 +64,24 @@ inline std::filesystem::path fresh_dir(const std::string& name) {
       std::filesystem::temp_directory_path() / ("kiln_test_" + name + "_" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   return dir;
+}
+
+// The message a scene text gives when it cannot be loaded (named bad.yaml), or "" when it loads.
+inline std::string error_of(const std::string& text, const std::vector<std::string>& sets = {},
+                            uint64_t memory = physical_memory()) {
+  try {
+    parse_scene(text, "bad.yaml", sets, memory);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+// `text` with the first `from` replaced by `to` (which must be there).
+inline std::string replaced(std::string text, const std::string& from, const std::string& to) {
+  const size_t at = text.find(from);
+  REQUIRE(at != std::string::npos);
+  return text.replace(at, from.size(), to);
 }
 
 inline std::string case_path(const std::string& name) { return std::string(KILN_CASES_DIR) + "/" + name; }
