@@ -95,7 +95,8 @@ DemSystem::DemSystem(const Scene& scene)
   for (const Wall& w : scene.walls) moving_walls_ = moving_walls_ || w.motion.kind != WallMotion::Kind::fixed;
   x_ref_.resize(n_);
   y_ref_.resize(n_);
-  update_walls(0);
+  wall_loads_.resize(scene.walls.size());
+  update_walls(0, nullptr);
 }
 
 std::vector<double> DemSystem::initial_state() const {
@@ -111,7 +112,7 @@ std::vector<double> DemSystem::initial_state() const {
   return y;
 }
 
-void DemSystem::wall_geometry(double t, std::vector<Vec2>& a, std::vector<Vec2>& b) const {
+void DemSystem::wall_geometry(double t, const double*, std::vector<Vec2>& a, std::vector<Vec2>& b) const {
   a.resize(scene_.segments.size());
   b.resize(scene_.segments.size());
   for (size_t s = 0; s < scene_.segments.size(); ++s) {
@@ -122,9 +123,9 @@ void DemSystem::wall_geometry(double t, std::vector<Vec2>& a, std::vector<Vec2>&
   }
 }
 
-void DemSystem::update_walls(double t) {
+void DemSystem::update_walls(double t, const double* y) {
   if (t == seg_time_) return;
-  wall_geometry(t, seg_a_, seg_b_);
+  wall_geometry(t, y, seg_a_, seg_b_);
   seg_time_ = t;
 }
 
@@ -210,7 +211,7 @@ void DemSystem::rebuild(double t, const double* y, double skin) {
   broadphase_.particle_pairs(px, py, radius_.data(), n_, candidates_);
   pp_.replace(candidates_);
   set_coefficients(pp_, false);
-  update_walls(t);
+  update_walls(t, y);
   broadphase_.wall_pairs(px, py, radius_.data(), n_, seg_a_, seg_b_, candidates_);
   pw_.replace(candidates_);
   set_coefficients(pw_, true);
@@ -242,7 +243,7 @@ void DemSystem::frame_new_contacts(double t, const double* y) {
     if (overlap <= 0) continue;
     pp_.frame[p] = pp_.trial_frame[p] = {dx / d, dy / d, 0.0, -d};
   }
-  update_walls(t);
+  update_walls(t, y);
   for (int p = 0; p < pw_.size(); ++p) {
     if (pw_.frame[p].known()) continue;
     const int i = pw_.i[p], sgi = pw_.j[p];
@@ -399,7 +400,7 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
     // the temperatures too: its ledger rate has a Jacobian row, -sum H_w v_i, which a scheme
     // that corrects its slopes with the Jacobian needs to keep the ledger closed.
     std::fill_n(ydot, layout_.size(), 0.0);
-    if (moving_walls_) update_walls(t);
+    if (moving_walls_) update_walls(t, y);
     double* heat = ydot + temperature_at();
     const double heat_walls = conduct(t, y, temps ? temps : y + temperature_at(), heat, part == Part::implicit_only);
     for (int i = 0; i < n_; ++i) heat[i] *= inv_capacity_[i];
@@ -410,7 +411,7 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
   Fields s{y + x_at(), y + y_at(), rotates_ ? y + angle_at() : nullptr, y + vx_at(), y + vy_at(),
            rotates_ ? y + omega_at() : nullptr, ydot + vx_at(), ydot + vy_at(), rotates_ ? ydot + omega_at() : nullptr};
   std::fill_n(ydot + nq, nq, 0.0);
-  if (moving_walls_) update_walls(t);
+  if (moving_walls_) update_walls(t, y);
   const bool history = pp_.history;
   // The damping and friction ledgers' generalized forces (work_components()).
   work_force_.assign(2 * nq, 0.0);
@@ -658,7 +659,7 @@ EnergyLedger DemSystem::energy(double t, const double* y) const {
                                scene_.gravity.y * (py[i] - scene_.position[i].y));
   }
   std::vector<Vec2> a, b;
-  wall_geometry(t, a, b);
+  wall_geometry(t, y, a, b);
   // The springs of the contacts as committed at the last accepted step (energy is asked for at
   // step ends, where the committed history belongs to the state).
   // held: the particles' shares of what friction springs hold, booked in their temperatures
@@ -720,7 +721,7 @@ double DemSystem::wall_overlap(const double* px, const double* py, const std::ve
 void DemSystem::event_functions(double t, const double* y, double* g) const {
   const double *px = y + x_at(), *py = y + y_at();
   std::vector<Vec2>&a = event_a_, &b = event_b_;  // kept: event location runs every step
-  wall_geometry(t, a, b);
+  wall_geometry(t, y, a, b);
   for (int p = 0; p < pp_.size(); ++p) g[p] = pair_overlap(px, py, p);
   for (int p = 0; p < pw_.size(); ++p) g[pp_.size() + p] = wall_overlap(px, py, a, b, p);
 }
@@ -730,7 +731,7 @@ void DemSystem::lock_contacts(double t, const double* y, const int* flips) {
   // contacts not known yet (the start, new candidates) act where their overlap is positive.
   const double *px = y + x_at(), *py = y + y_at();
   std::vector<Vec2>&a = event_a_, &b = event_b_;  // kept: event location runs every step
-  wall_geometry(t, a, b);
+  wall_geometry(t, y, a, b);
   for (int p = 0; p < pp_.size(); ++p) {
     if (flips && flips[p]) pp_.active[p] = flips[p] > 0;
     if (pp_.active[p] == 2) pp_.active[p] = pair_overlap(px, py, p) > 0;
@@ -763,7 +764,7 @@ bool DemSystem::diffusion_jacobian(double t, const double* y, DiffusionJacobian&
   out.reset(temperature_at(), capacity_, ledger_at() + ledger_heat_walls);
   for (int p = 0, np = pp_.size(); p < np; ++p)
     if (const double h = pair_conductance(px, py, p); h != 0) out.add_link(pp_.i[p], pp_.j[p], h);
-  wall_geometry(t, event_a_, event_b_);
+  wall_geometry(t, y, event_a_, event_b_);
   for (int p = 0, np = pw_.size(); p < np; ++p) {
     int wall = 0;
     if (const double h = wall_conductance(px, py, event_a_, event_b_, p, wall); h != 0) out.add_link(pw_.i[p], -1, h);
@@ -777,7 +778,7 @@ std::vector<ConductanceLink> DemSystem::conduction_links(double t, const double*
   for (int p = 0; p < pp_.size(); ++p)
     if (const double h = pair_conductance(px, py, p); h > 0) links.push_back({pp_.i[p], pp_.j[p], h});
   std::vector<Vec2> a, b;
-  wall_geometry(t, a, b);
+  wall_geometry(t, y, a, b);
   for (int p = 0; p < pw_.size(); ++p) {
     int wall = 0;
     if (const double h = wall_conductance(px, py, a, b, p, wall); h > 0) links.push_back({pw_.i[p], -1 - wall, h});
@@ -795,7 +796,7 @@ DemSystem::ContactCount DemSystem::count_contacts(double t, const double* y) con
     count.particle_particle += dx * dx + dy * dy < rs * rs;
   }
   std::vector<Vec2> a, b;
-  wall_geometry(t, a, b);
+  wall_geometry(t, y, a, b);
   WallHit hit;
   for (int p = 0; p < pw_.size(); ++p) {
     const int i = pw_.i[p];

@@ -130,8 +130,16 @@ class DemSystem final : public OdeSystem {
   double skin() const { return broadphase_.skin(); }
   const ContactList& particle_contacts() const { return pp_; }
   const ContactList& wall_contacts() const { return pw_; }
-  // Wall segment endpoints at time t.
-  void wall_geometry(double t, std::vector<Vec2>& a, std::vector<Vec2>& b) const;
+  // Wall segment endpoints at time t in state y (a load-controlled wall's position is part of y).
+  void wall_geometry(double t, const double* y, std::vector<Vec2>& a, std::vector<Vec2>& b) const;
+  // What the particles do to each wall (indexed as scene().walls), at the latest force
+  // evaluation: the force on the wall (N), its torque about the wall's centre (N m,
+  // counter-clockwise positive) and the power the wall delivers to the particles (W).
+  struct WallLoad {
+    Vec2 force;
+    double torque = 0, power = 0;
+  };
+  const std::vector<WallLoad>& wall_loads() const { return wall_loads_; }
   const Scene& scene() const { return scene_; }
 
  private:
@@ -157,7 +165,7 @@ class DemSystem final : public OdeSystem {
   double wall_overlap(const double* px, const double* py, const std::vector<Vec2>& a, const std::vector<Vec2>& b,
                       int p) const;
   void set_coefficients(ContactList& list, bool walls);
-  void update_walls(double t);
+  void update_walls(double t, const double* y);
   // Friction and rolling resistance of one touching contact.
   struct PairMasses {
     double m_eff = 0, inertia = 0, r_eff = 0;  // effective mass, rolling inertia I_r, R*
@@ -218,6 +226,7 @@ class DemSystem final : public OdeSystem {
   double committed_time_ = 0, trial_time_ = 0;
   std::vector<double> work_force_;  // see work_components(), from the latest evaluation
   double max_overlap_fraction_ = 0;
+  std::vector<WallLoad> wall_loads_;
 
   std::vector<Vec2> seg_a_, seg_b_;  // wall geometry at the latest time asked for
   mutable std::vector<Vec2> event_a_, event_b_;  // scratch of the event functions

@@ -48,7 +48,7 @@ class BounceObserver final : public Observer {
   void sample(double t, const double* y) override {
     const Vec2 c{y[sys_.x_at()], y[sys_.y_at()]};
     const Vec2 v{y[sys_.vx_at()], y[sys_.vy_at()]};
-    sys_.wall_geometry(t, a_, b_);
+    sys_.wall_geometry(t, y, a_, b_);
     double gap = INFINITY;
     for (size_t s = 0; s < a_.size(); ++s) {
       const Vec2 ab = b_[s] - a_[s];

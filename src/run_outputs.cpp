@@ -165,7 +165,7 @@ void RunOutputs::finish(double t, const double* y, const nlohmann::json& summary
                                        : std::hypot(y[sys_.vx_at() + i], y[sys_.vy_at() + i]));
   }
   pic.value_label = sys_.thermal() ? "temperature" : "speed (m/s)";
-  sys_.wall_geometry(t, pic.wall_a, pic.wall_b);
+  sys_.wall_geometry(t, y, pic.wall_a, pic.wall_b);
   pic.title = title;
   // Everything is written before anything is published: a failure leaves no final name behind.
   write_picture(path("picture.png.tmp"), pic);

@@ -79,7 +79,7 @@ TEST_CASE("broadphase: every overlapping pair of a long random flow is a candida
         CHECK(found);
       }
     std::vector<Vec2> a, b;
-    sys.wall_geometry(run.t(), a, b);
+    sys.wall_geometry(run.t(), run.y.data(), a, b);
     const ContactList& pw = sys.wall_contacts();
     for (int i = 0; i < n; ++i)
       for (size_t s = 0; s < a.size(); ++s) {
