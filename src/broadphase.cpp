@@ -50,7 +50,7 @@ b2AABB Broadphase::box(double x0, double y0, double x1, double y1) const {
   return bb;
 }
 
-void Broadphase::particle_pairs(const double* x, const double* y, const double* r, int n,
+void Broadphase::particle_pairs(const double* x, const double* y, const double* r, int n, const PeriodicCell& cell,
                                 std::vector<CandidatePair>& out) {
   // Keep the tree across rebuilds: MoveProxy re-inserts only particles that left their fat box.
   if (static_cast<int>(particle_proxy_.size()) != n) {
@@ -65,16 +65,27 @@ void Broadphase::particle_pairs(const double* x, const double* y, const double* 
                            b2Vec2(0, 0));
   }
   out.clear();
+  // In a periodic cell a particle near an edge also looks for neighbours around its images
+  // across that edge; the exact test takes the nearest images.
+  const double lx = cell.x ? cell.length_x() : 0, ly = cell.y ? cell.length_y() : 0;
   for (int i = 0; i < n; ++i) {
     const size_t first = out.size();
     const double reach = r[i] + skin_;
     auto accept = [&](int j) {
       if (j <= i) return;
-      const double dx = x[j] - x[i], dy = y[j] - y[i], rr = r[i] + r[j] + skin_;
-      if (dx * dx + dy * dy < rr * rr) out.push_back({i, j});
+      const Vec2 d = cell.minimum_image(x[j] - x[i], y[j] - y[i]);
+      const double rr = r[i] + r[j] + skin_;
+      if (d.x * d.x + d.y * d.y < rr * rr) out.push_back({i, j});
     };
-    query(particles_, box(x[i] - reach, y[i] - reach, x[i] + reach, y[i] + reach), accept);
+    const int sx = cell.x ? (x[i] - reach < cell.x0 ? 1 : x[i] + reach >= cell.x1 ? -1 : 0) : 0;
+    const int sy = cell.y ? (y[i] - reach < cell.y0 ? 1 : y[i] + reach >= cell.y1 ? -1 : 0) : 0;
+    for (int ix = 0; ix <= (sx != 0); ++ix)
+      for (int iy = 0; iy <= (sy != 0); ++iy) {
+        const double ox = ix * sx * lx, oy = iy * sy * ly;
+        query(particles_, box(x[i] + ox - reach, y[i] + oy - reach, x[i] + ox + reach, y[i] + oy + reach), accept);
+      }
     std::sort(out.begin() + first, out.end());
+    if (sx || sy) out.erase(std::unique(out.begin() + first, out.end()), out.end());
   }
 }
 

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "src/periodic_cell.h"
 #include "src/vec2.h"
 
 namespace kiln {
@@ -31,8 +32,10 @@ class Broadphase {
   // its units, so Box2D's padding stays a tenth of the base skin.
   void set_skin(double skin) { skin_ = skin; }
 
-  // Particle pairs with |x_i - x_j| < r_i + r_j + skin, sorted by (i, j).
-  void particle_pairs(const double* x, const double* y, const double* r, int n, std::vector<CandidatePair>& out);
+  // Particle pairs with |x_i - x_j| < r_i + r_j + skin (nearest images in a periodic cell, whose
+  // positions must lie in the cell and whose periods exceed twice that reach), sorted by (i, j).
+  void particle_pairs(const double* x, const double* y, const double* r, int n, const PeriodicCell& cell,
+                      std::vector<CandidatePair>& out);
   // (particle, segment) pairs with distance(centre, segment) < r + skin, sorted.
   void wall_pairs(const double* x, const double* y, const double* r, int n, const std::vector<Vec2>& a,
                   const std::vector<Vec2>& b, std::vector<CandidatePair>& out);

@@ -28,9 +28,13 @@
 #include "contact/tangential_force.h"
 #include "integrators/integrator.h"
 #include "src/broadphase.h"
+#include "src/contact_coefficients.h"
 #include "src/contact_list.h"
 #include "src/energy.h"
+#include "src/periodic_cell.h"
 #include "src/scene.h"
+#include "src/stage_profile.h"
+#include "src/wall_geometry.h"
 
 namespace kiln {
 
@@ -117,6 +121,11 @@ class DemSystem final : public OdeSystem {
   double mass(int i) const { return mass_[i]; }
   double inertia(int i) const { return inertia_[i]; }
   double radius(int i) const { return radius_[i]; }
+  // The one separation of two particles: p_j - p_i, the nearest images in a periodic cell.
+  Vec2 separation(const double* px, const double* py, int i, int j) const {
+    return cell_.minimum_image(px[j] - px[i], py[j] - py[i]);
+  }
+  const PeriodicCell& cell() const { return scene_.periodic; }
 
   // The ledger at (t, y); potential and thermal energy from the scene's initial state (energy.h).
   EnergyLedger energy(double t, const double* y) const;
@@ -141,65 +150,94 @@ class DemSystem final : public OdeSystem {
   };
   const std::vector<WallLoad>& wall_loads() const { return wall_loads_; }
   const Scene& scene() const { return scene_; }
+  // The wall time of the stages this system runs (neighbour update, contacts, conduction).
+  const StageProfile& profile() const { return profile_; }
 
  private:
-  struct LawFlags {
-    double mu = 0, mu_roll = 0, beta = 0;
-    double kt_ratio = 0, ct_ratio = 0;  // k_t = kt_ratio k_n (Hertz: of 3/2 k delta^1/2), c_t = ct_ratio c
-    contact::RollingModel rolling_model = contact::RollingModel::constant;
-    double eta_roll = 0;  // epsd damping ratio
-    bool hertz = false, tension = true, tangential = false, rolling = false;
-    thermal::ConductionLaw conduction;  // from the first material to the second
-    double heat_share = 0.5;            // share of frictional heat for the first material's body
-  };
   // What one evaluation computes: everything, the explicit or the implicit part of an IMEX split,
   // or the implicit part's Jacobian times the temperatures `temps` (walls held at 0).
   enum class Part { all, explicit_only, implicit_only, jacobian };
+  // One force evaluation's inputs, outputs and running sums, shared by its stages.
+  struct Evaluation {
+    double t = 0;
+    const double *x, *y, *angle, *vx, *vy, *w;  // state fields (angle, w null without rotation)
+    double *fx, *fy, *torque;                    // forces, then accelerations (torque null likewise)
+    double* heat = nullptr;                      // thermal scenes: heat flow, then dT/dt
+    double *gd = nullptr, *g = nullptr;          // work forces of the damping and friction ledgers
+    double damping = 0, friction_work = 0, walls_work = 0, heat_generated = 0, heat_walls = 0;
+    double worst = 0;  // largest overlap / radius
+  };
   void evaluate(double t, const double* y, double* ydot, Part part, const double* temps);
-  // New candidate lists at (t, y) with a skin of at least `skin` (the base skin otherwise).
+  // The stages of an evaluation (each in a file of its own).
+  Evaluation begin_evaluation(double t, const double* y, double* ydot);
+  void particle_contact_forces(Evaluation& e);  // stage_particle_contacts.cpp
+  void wall_contact_forces(Evaluation& e);      // stage_wall_contacts.cpp
+  void accelerations(Evaluation& e);            // forces to accelerations, gravity
+  void close_ledger(const Evaluation& e, double* ydot);
+  void implicit_conduction(double t, const double* y, double* ydot, const double* temps, bool wall_sources);
+
+  // Neighbour update (neighbour_update.cpp): new candidate lists at (t, y) with a skin of at
+  // least `skin` (the base skin otherwise).
   void rebuild(double t, const double* y, double skin = 0);
   bool covers(double t, const double* y, double lookahead) const;
   double fastest_speed(const double* y) const;
+  void set_coefficients(ContactList& list, bool walls);
+  // The contact frames of the touching contacts that have none, at the committed state (t, y).
+  void frame_new_contacts(double t, const double* y);
+  void update_walls(double t, const double* y);
+  // A particle's place in the cell (its wrapped image): where walls and the tree see it.
+  Vec2 place(const double* px, const double* py, int i) const { return cell_.wrap({px[i], py[i]}); }
+
   // Overlap of candidate contact p of the pp list (walls: of pw), negative when apart.
   double pair_overlap(const double* px, const double* py, int p) const;
   double wall_overlap(const double* px, const double* py, const std::vector<Vec2>& a, const std::vector<Vec2>& b,
                       int p) const;
-  void set_coefficients(ContactList& list, bool walls);
-  void update_walls(double t, const double* y);
-  // Friction and rolling resistance of one touching contact.
+  // The contact of particle i with segment s at current geometry a, b (see disc_segment_contact).
+  bool wall_hit(const double* px, const double* py, const std::vector<Vec2>& a, const std::vector<Vec2>& b, int i,
+                int s, WallHit& hit, bool apart_too) const {
+    return disc_segment_contact(scene_.segments, a, b, s, place(px, py, i), radius_[i], hit, apart_too);
+  }
+
+  // The contact kernel (contact_kernel.h): one touching contact, particle-particle or
+  // particle-wall, from its kinematics to its forces, with its history.
   struct PairMasses {
     double m_eff = 0, inertia = 0, r_eff = 0;  // effective mass, rolling inertia I_r, R*
     double spin_inertia = 0;                   // of the relative rotation, 1/(1/I_i + 1/I_j)
   };
   PairMasses pair_masses(int i, int j) const;  // j < 0: a wall
-  struct ContactState {
+  struct ContactKinematics {
     contact::ContactFrame frame;  // this state's
-    double arm = 0, arm_then = 0; // i's lever arm now and in the committed frame (m)
-    double spun_i = 0, spun_other = 0;  // angles turned since the committed state (rad)
-    int i = 0, j = 0;             // the particles (j < 0: a wall)
-    double overlap = 0, approach_speed = 0;
-    double slip_speed = 0;     // of the contact points along t (m/s)
-    double relative_spin = 0;  // omega_i - omega_other (rad/s)
+    Vec2 rv;                      // v_i - the velocity of the other body at i's centre (wall: at the contact)
+    double overlap = 0;
+    double arm_i = 0, arm_other = 0, arm_then = 0;  // lever arms now (the wall's: 0), i's in the committed frame
+    double w_i = 0, w_other = 0;                    // spins (rad/s)
+    double spun_i = 0, spun_other = 0;              // angles turned since the committed state (rad)
+    int i = 0, j = 0;                               // the particles (j < 0: a wall)
   };
-  struct Friction {
-    double force = 0;      // tangential, along t, on i (N)
-    double torque = 0;     // rolling couple on i (N m)
-    double work_rate = 0;  // power of both on the relative motion (W): dissipated or stored
+  struct ContactForces {
+    double fx = 0, fy = 0;     // on i (N)
+    double tangential = 0;     // along t, on i (N)
+    double couple = 0;         // rolling couple on i (N m)
+    double dashpot = 0;        // the normal force's dashpot part (N)
+    double damping_power = 0;  // W
+    double work_rate = 0;      // power of friction and rolling resistance on the relative motion (W)
   };
-  contact::TangentialLaw tangential_law(const LawFlags& lf, const contact::NormalLaw& nl, double overlap) const;
-  contact::RollingLaw rolling_law(const LawFlags& lf, const contact::NormalLaw& nl, double overlap,
+  ContactForces contact(ContactList& list, int p, const ContactKinematics& c);
+  contact::TangentialLaw tangential_law(const ContactCoefficients& lf, const contact::NormalLaw& nl,
+                                        double overlap) const;
+  contact::RollingLaw rolling_law(const ContactCoefficients& lf, const contact::NormalLaw& nl, double overlap,
                                   const PairMasses& pm, double normal) const;
-  Friction friction(ContactList& list, int p, const LawFlags& lf, const contact::NormalLaw& nl, const ContactState& c,
-                    double normal) const;
   static void forget(ContactList& list, int p);  // not touching: no history
-  // The contact frames of the touching contacts that have none, at the committed state (t, y).
-  void frame_new_contacts(double t, const double* y);
+  void make_heat(Evaluation& e, double work_rate, double damping_power, int i, int j, double share) const;
+
+  // Conduction (stage_conduction.cpp).
   double pair_conductance(const double* px, const double* py, int p) const;
   double wall_conductance(const double* px, const double* py, const std::vector<Vec2>& a, const std::vector<Vec2>& b,
                           int p, int& wall) const;
   double conduct(double t, const double* y, const double* temp, double* heat, bool wall_sources) const;
 
   const Scene& scene_;
+  const PeriodicCell& cell_;
   int n_ = 0;
   bool rotates_ = false;
   bool moving_walls_ = false;
@@ -210,13 +248,14 @@ class DemSystem final : public OdeSystem {
   StateLayout layout_;
   std::vector<double> radius_, inv_radius_, mass_, inv_mass_, inertia_, inv_inertia_;
   std::vector<int> material_;
-  std::vector<LawFlags> flags_;  // per material pair
+  std::vector<ContactCoefficients> laws_;  // per material pair
 
   double base_skin_ = 0;  // the scene's skin (or the automatic one); a rebuild may widen it for a step
   Broadphase broadphase_;
   std::vector<CandidatePair> candidates_;
   ContactList pp_, pw_;
   std::vector<double> x_ref_, y_ref_;  // positions at the last rebuild
+  std::vector<double> wrapped_x_, wrapped_y_;  // periodic cells: the places the tree saw
   double t_ref_ = 0;
   bool built_ = false;
   long rebuilds_ = 0;
@@ -227,6 +266,8 @@ class DemSystem final : public OdeSystem {
   std::vector<double> work_force_;  // see work_components(), from the latest evaluation
   double max_overlap_fraction_ = 0;
   std::vector<WallLoad> wall_loads_;
+  std::vector<Vec2> wall_reference_, wall_centre_;  // what each wall's torque is about: at t = 0, now
+  mutable StageProfile profile_;
 
   std::vector<Vec2> seg_a_, seg_b_;  // wall geometry at the latest time asked for
   mutable std::vector<Vec2> event_a_, event_b_;  // scratch of the event functions

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "contact/normal_force.h"
+#include "src/contact_coefficients.h"
 #include "src/dem_system.h"
 #include "src/simulation.h"
 #include "thermal/network_exact.h"
@@ -35,9 +36,9 @@ std::pair<double, double> disc_on_floor(const Scene& s, double t_end) {
   const double r = s.radius[0], g = -s.gravity.y;
   const double m = disc_mass(s, r, s.materials[s.material[0]].density);
   const int wall_material = s.walls.front().material;
-  const PairLaw& law = s.law(s.material[0], wall_material);
-  const double w = std::sqrt(law.stiffness / m);
-  const double zeta = contact::restitution_damping(law.restitution, false, true) / 2;
+  const contact::NormalLaw nl = contact_coefficients(s, s.material[0], wall_material).normal_law(m, r);
+  const double w = std::sqrt(nl.k / m);
+  const double zeta = nl.c / (2 * std::sqrt(m * nl.k));
   const double wd = w * std::sqrt(1 - zeta * zeta);
   double t = 0, y = s.position[0].y, v = s.velocity[0].y;
   while (true) {
@@ -110,9 +111,8 @@ std::optional<FloorDiscState> friction_disc_on_floor(const Scene& s, double t_en
   const double r = s.radius[0], floor = seg.a.y;
   const double m = disc_mass(s, r, s.materials[s.material[0]].density), inertia = disc_inertia(s, m, r);
   const double kappa = 1 + m * r * r / inertia;
-  const double k = law.stiffness;
-  const double beta = contact::restitution_damping(law.restitution, false, law.tension);
-  const double c = law.damping_rate > 0 ? m * law.damping_rate : beta * std::sqrt(m * k);
+  const contact::NormalLaw nl = contact_coefficients(s, s.material[0], s.walls[0].material).normal_law(m, r);
+  const double k = nl.k, c = nl.c;
   if (!law.tension && c > 0) return std::nullopt;  // the clamped dashpot is not linear
   const double kt = law.tangential_stiffness_ratio * k, ct = law.tangential_damping_ratio * c, mu = law.friction;
   const double gx = s.gravity.x, gn = -s.gravity.y;

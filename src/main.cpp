@@ -16,6 +16,7 @@
 #include "src/overrides.h"
 #include "src/scene_yaml.h"
 #include "src/simulation.h"
+#include "src/stage_profile.h"
 #include "src/snapshot.h"
 #include "src/stability.h"
 #include "src/stop_signal.h"
@@ -165,7 +166,7 @@ std::string describe_steps(const nlohmann::json& stage, double dt, bool adaptive
 
 struct RunArgs {
   std::string out;
-  bool quiet = false, force = false;
+  bool quiet = false, force = false, profile = false;
   double checkpoint_every = 0;
   std::string restart;  // a checkpoint to go on from
 };
@@ -239,6 +240,7 @@ int run(const SceneArgs& a, const RunArgs& r) {
   kiln::catch_stop_signals();
   const nlohmann::json s = kiln::run_scene(scene, options);
   report_run(scene, s, out, r.quiet);
+  if (r.profile) std::printf("%s", kiln::profile_table(s["profile"]).c_str());
   if (s["stopped_early"] == "signal") return kiln::stop_signal() == SIGINT ? kiln::exit_sigint : kiln::exit_sigterm;
   return kiln::exit_success;
 }
@@ -278,6 +280,8 @@ int main(int argc, char** argv) {
   add_scene_options(run_cmd, run_args);
   run_cmd->add_option("--out", run_opts.out, "output directory (default out/<scene name>)");
   run_cmd->add_flag("--quiet", run_opts.quiet, "no progress or summary line");
+  run_cmd->add_flag("--profile", run_opts.profile,
+                    "print the wall time of each stage of the step (also in summary.json as `profile`)");
   run_cmd->add_flag("--force", run_opts.force,
                     "run even when dt is beyond the estimated limit or the step count beyond its limit");
   run_cmd->add_option("--checkpoint-every", run_opts.checkpoint_every,

@@ -7,6 +7,7 @@
 
 #include "contact/rolling_resistance.h"
 #include "integrators/integrator.h"
+#include "src/periodic_cell.h"
 #include "src/vec2.h"
 #include "thermal/conductance.h"
 #include "thermal/wall_temperature.h"
@@ -121,6 +122,7 @@ struct Scene {
 
   std::vector<Wall> walls;
   std::vector<Segment> segments;
+  PeriodicCell periodic;  // no periodic axis unless given
 
   // Integration and output.
   std::string integrator = "velocity-verlet";

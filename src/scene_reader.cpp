@@ -119,7 +119,32 @@ std::string SceneNode::child_path(const std::string& key) const { return join(pa
 
 SceneNode SceneNode::child(YAML::Node node, const std::string& key) const {
   const std::string pattern = schema_child(*source_->schema, pattern_, key, node_.IsSequence());
-  return SceneNode(std::move(node), child_path(key), pattern, source_);
+  std::string path = child_path(key);
+  source_->read.insert(path);
+  return SceneNode(std::move(node), std::move(path), pattern, source_);
+}
+
+void SceneNode::check_all_read() const {
+  if (node_.IsMap()) {
+    for (const auto& kv : node_) {
+      const std::string path = child_path(kv.first.Scalar());
+      if (!source_->read.count(path)) {
+        const YAML::Mark mark = kv.first.Mark();
+        Location at{source_->file, mark.line + 1, path};
+        if (from_command_line(path) || mark.is_null() || mark.line < 0) at = {"--set", 0, path};
+        std::vector<std::string> used;
+        for (const auto& other : node_)
+          if (source_->read.count(child_path(other.first.Scalar()))) used.push_back(other.first.Scalar());
+        throw InputError(at, "'" + kv.first.Scalar() + "' does not apply here: nothing reads it with the other keys "
+                             "of this entry (read here: " + (used.empty() ? std::string("none") : choices_nearest_first(kv.first.Scalar(), used)) +
+                             "); remove it");
+      }
+      child(kv.second, kv.first.Scalar()).check_all_read();
+    }
+  } else if (node_.IsSequence()) {
+    for (size_t i = 0; i < node_.size(); ++i)
+      if (source_->read.count(child_path(std::to_string(i)))) child(node_[i], std::to_string(i)).check_all_read();
+  }
 }
 
 void SceneNode::fail_unknown_key(const YAML::Node& key, const std::vector<std::string>& valid) const {

@@ -41,6 +41,7 @@ struct SceneReading {
   std::string file;
   std::set<std::string> overridden;  // dotted paths that --set replaced: reported as "--set"
   const KeySchema* schema = nullptr;
+  mutable std::set<std::string> read;  // dotted paths of every value the reader took
 };
 
 class SceneNode {
@@ -74,6 +75,10 @@ class SceneNode {
 
   // Convenience: optional key with a default.
   double number_or(const std::string& key, double fallback) const;
+
+  // Fails at the first key below this node that nothing read: a documented key that does not
+  // apply where it is given (`closed` on a box) would otherwise pass silently. Call after reading.
+  void check_all_read() const;
 
   Location location() const;
   const std::string& path() const { return path_; }

@@ -241,6 +241,35 @@ thermal::ConductionModel read_conduction(const SceneNode& node) {
   return M::none;
 }
 
+// A contact entry's keys that belong to one law, refused with another: the Hertz law takes its
+// stiffness from the materials' moduli, and its dashpot (N s/m^1.25) from the restitution, so a
+// linear damping rate has no meaning there; each conduction and rolling law has its own parameter.
+void check_law_keys(const SceneNode& c, const PairLaw& law) {
+  using M = thermal::ConductionModel;
+  const bool hertz = law.model == NormalModel::hertz;
+  struct Owned {
+    const char* key;
+    bool applies;
+    const char* law;
+  };
+  const Owned owned[] = {
+      {"stiffness", !hertz, "model: linear (Hertz takes its stiffness from youngs_modulus and poisson_ratio)"},
+      {"damping_rate", !hertz, "model: linear (a Hertz contact is damped through its restitution)"},
+      {"conductance", law.conduction == M::constant, "conduction: constant"},
+      {"softened_modulus_ratio", law.conduction == M::batchelor_obrien, "conduction: batchelor_obrien"},
+      {"contact_resistance", law.conduction == M::pipe_network, "conduction: pipe_network"},
+      {"rolling_damping_ratio", law.rolling_model == contact::RollingModel::epsd, "rolling_model: epsd"}};
+  std::vector<std::string> valid = {"between", "model", "restitution", "tension", "friction", "rolling_friction",
+                                    "rolling_model", "tangential_stiffness_ratio", "tangential_damping_ratio",
+                                    "conduction"};
+  for (const Owned& o : owned)
+    if (o.applies) valid.push_back(o.key);
+  for (const Owned& o : owned)
+    if (c.has(o.key) && !o.applies)
+      c[o.key].fail(std::string("applies to ") + o.law + " only; the keys of this pair's law are " +
+                    choices_nearest_first(o.key, valid));
+}
+
 void read_contacts(const SceneNode& root, Scene& scene, const MaterialIndex& index,
                    std::vector<Location>& law_location) {
   const int nm = scene.n_materials();
@@ -276,14 +305,13 @@ void read_contacts(const SceneNode& root, Scene& scene, const MaterialIndex& ind
       if (auto v = c.optional("rolling_friction")) law.rolling_friction = v->non_negative();
       if (auto v = c.optional("rolling_model")) law.rolling_model = read_rolling_model(*v);
       if (auto v = c.optional("rolling_damping_ratio")) law.rolling_damping_ratio = v->non_negative();
-      if (c.has("rolling_damping_ratio") && law.rolling_model != contact::RollingModel::epsd)
-        c["rolling_damping_ratio"].fail("applies to rolling_model: epsd only; this pair's rolling model is constant");
       if (auto v = c.optional("tangential_stiffness_ratio")) law.tangential_stiffness_ratio = v->positive();
       if (auto v = c.optional("tangential_damping_ratio")) law.tangential_damping_ratio = v->non_negative();
       if (auto v = c.optional("conduction")) law.conduction = read_conduction(*v);
       if (law.conduction == thermal::ConductionModel::constant) law.conductance = c["conductance"].positive();
       if (auto v = c.optional("softened_modulus_ratio")) law.modulus_ratio = v->in_range(0, 1, true, false);
       if (auto v = c.optional("contact_resistance")) law.contact_resistance = v->non_negative();
+      check_law_keys(c, law);
       scene.laws[a * nm + b] = scene.laws[b * nm + a] = law;
       law_location[a * nm + b] = law_location[b * nm + a] = c.location();
     }
@@ -583,7 +611,7 @@ void check_initial_contacts(const SceneNode& root, const Scene& scene, const Par
   const double rmin = *std::min_element(scene.radius.begin(), scene.radius.end());
   Broadphase bp(1e-3 * rmin);
   std::vector<CandidatePair> pairs;
-  bp.particle_pairs(x.data(), y.data(), scene.radius.data(), scene.n_particles(), pairs);
+  bp.particle_pairs(x.data(), y.data(), scene.radius.data(), scene.n_particles(), scene.periodic, pairs);
   for (const CandidatePair& p : pairs) {
     const Location& at = sets.location[sets.of[p.j]];
     const double distance = norm(scene.position[p.j] - scene.position[p.i]);
@@ -811,7 +839,10 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   source->file = file;
   source->schema = &scene_schema;
   source->overridden = apply_overrides(doc, overrides, scene_schema);
-  return read_scene(SceneNode(doc, source), file, memory);
+  const SceneNode root(doc, source);
+  Scene scene = read_scene(root, file, memory);
+  root.check_all_read();
+  return scene;
 }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides, uint64_t memory) {

@@ -17,6 +17,7 @@
 #include "src/run_outputs.h"
 #include "src/scene_yaml.h"
 #include "src/stability_guard.h"
+#include "src/stage_profile.h"
 #include "src/stop_signal.h"
 #include "thermal/frozen_conduction.h"
 
@@ -142,7 +143,7 @@ class SceneRun {
 
  private:
   enum class Ended { at_end, at_rest, frozen, signal };
-  enum Stage { mechanics_stage = 0, heat_stage = 1 };
+  enum Phase { mechanics_stage = 0, heat_stage = 1 };  // the stages of a run (not of a step)
   void start_fresh();
   void resume(const Snapshot& s);
   void enter_heat_stage(bool freezing, const Snapshot* s);
@@ -156,6 +157,16 @@ class SceneRun {
     return options_.checkpoint_every > 0 ? options_.checkpoint_every : scene_.t_end / 20;
   }
   double frame_time(double index) const { return stage_t0_ + index * stage_interval_; }
+  // The run's stages and the system's, integration being the steps less the system's stages.
+  StageProfile profile() const {
+    StageProfile p = profile_;
+    p.merge(system_.profile());
+    double inside = 0;
+    for (Stage st : {Stage::neighbour_update, Stage::particle_contacts, Stage::wall_contacts, Stage::conduction})
+      inside += system_.profile().seconds(st);
+    p.add(Stage::integration, -std::min(inside, profile_.seconds(Stage::integration)));
+    return p;
+  }
 
   const Scene& scene_;
   const RunOptions& options_;
@@ -171,6 +182,7 @@ class SceneRun {
   std::unique_ptr<StabilityGuard> guard_;
   std::unique_ptr<RunOutputs> files_;
   Progress progress_;
+  StageProfile profile_;  // the run's own stages; the system keeps those of its evaluations
   std::string run_id_, start_time_;
   std::vector<double> resumed_at_;  // the times this run was resumed from checkpoints
   double wall_before_ = 0;          // wall seconds of the segments before the latest resume
@@ -179,7 +191,7 @@ class SceneRun {
   // The stage now running: which, where it started, its step, frame interval, steps taken, the
   // index of the latest frame time reached (a double: an interval far below the step makes it
   // huge), step sizes, and its integrator's counts from segments before a resume.
-  Stage stage_ = mechanics_stage;
+  Phase stage_ = mechanics_stage;
   double stage_t0_ = 0, stage_dt_ = 0, stage_interval_ = 0;
   long stage_steps_ = 0;
   double stage_frame_ = 0;
@@ -318,12 +330,19 @@ void SceneRun::count_contacts() {
 // A frame: written, checked (finite state, energy), sampled; then the stop conditions, which are
 // decided at frames.
 SceneRun::Ended SceneRun::at_frame(bool moving, bool at_end) {
-  guard_->finite(t_, y_.data(), system_.layout().size());
-  const EnergyLedger now = system_.energy(t_, y_.data());
-  guard_->energy(t_, now);
+  EnergyLedger now;
+  {
+    const StageTimer timer(profile_, Stage::checks);
+    guard_->finite(t_, y_.data(), system_.layout().size());
+    now = system_.energy(t_, y_.data());
+    guard_->energy(t_, now);
+  }
   history_time_.push_back(t_);
   history_error_.push_back(balance_error(initial_, now));
-  if (files_) files_->frame(t_, y_.data());
+  {
+    const StageTimer timer(profile_, Stage::output);
+    if (files_) files_->frame(t_, y_.data());
+  }
   count_contacts();
   progress_.update(t_, scene_.t_end);
   if (moving && !at_end && scene_.stop_kinetic_energy > 0 && t_ >= scene_.stop_not_before &&
@@ -347,14 +366,23 @@ SceneRun::Ended SceneRun::run_stage(Integrator& stepper, bool moving) {
   const double tol = 1e-9 * stage_dt_;
   stepper.set_stop_time(scene_.t_end);
   while (t_ < scene_.t_end - tol) {
-    stepper.step();
+    {
+      const StageTimer timer(profile_, Stage::integration);  // less the system's stages, in summary()
+      stepper.step();
+    }
     ++stage_steps_;
     t_ = stepper.time();
     const double h = stepper.stats().last_step;
     stage_sizes_.add(h);
-    if (moving) guard_->every_step(t_, y_.data(), h);
-    guard_->temperatures(t_, y_.data());
-    for (auto& o : observers_) o->sample(t_, y_.data());
+    {
+      const StageTimer timer(profile_, Stage::checks);
+      if (moving) guard_->every_step(t_, y_.data(), h);
+      guard_->temperatures(t_, y_.data());
+    }
+    {
+      const StageTimer timer(profile_, Stage::observers);
+      for (auto& o : observers_) o->sample(t_, y_.data());
+    }
     const bool at_end = t_ >= scene_.t_end - tol;
     const bool regular = t_ >= frame_time(stage_frame_ + 1) - tol;
     Ended ended = Ended::at_end;
@@ -373,6 +401,7 @@ SceneRun::Ended SceneRun::run_stage(Integrator& stepper, bool moving) {
     const bool stops = at_end || signal || ended == Ended::at_rest;
     if (t_ >= next_checkpoint_ - tol || (stops && files_)) {
       while (next_checkpoint_ <= t_ + tol) next_checkpoint_ += checkpoint_every();
+      const StageTimer timer(profile_, Stage::output);
       save_checkpoint();
     }
     if (stops && !regular) at_frame(moving, true);
@@ -415,6 +444,7 @@ void SceneRun::save_checkpoint() {
   s.put_integer("frames", files_->frames());
   s.put("resumed_at", resumed_at_);
   s.put("wall_seconds", wall_before_ + seconds_since(wall_start_));
+  s.put("profile", profile().values());
   s.put("initial_ledger", ledger_values(initial_));
   s.put("history.time", history_time_);
   s.put("history.balance_error", history_error_);
@@ -452,6 +482,7 @@ void SceneRun::resume(const Snapshot& s) {
   resumed_at_ = s.reals("resumed_at");
   resumed_at_.push_back(t_);
   wall_before_ = s.real("wall_seconds");
+  profile_.set_values(s.reals("profile"));  // the system's stages of earlier segments counted here
   initial_ = ledger_of(s.reals("initial_ledger"));
   history_time_ = s.reals("history.time");
   history_error_ = s.reals("history.balance_error");
@@ -532,6 +563,7 @@ nlohmann::json SceneRun::summary(Ended ended) {
     summary["stability"]["thermal_relaxation_time"] = est.thermal_relaxation_time;
   }
   summary["checks"] = guard_->figures();
+  summary["profile"] = profile().json(total_steps_);
   summary["kiln_version"] = KILN_VERSION;
   for (auto& o : observers_) o->report(t_, y_.data(), summary);
   if (options_.final_fields) {

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "contact/normal_force.h"
+#include "src/contact_coefficients.h"
 #include "src/dem_system.h"
 #include "thermal/frozen_conduction.h"
 
@@ -85,16 +86,12 @@ void thermal_estimate(const Scene& scene, const std::vector<double>& rmin, const
     for (int a = 0; a < nm; ++a)
       for (int b = 0; b < nm; ++b) {
         if (!count[a] || !count[b]) continue;
-        const PairLaw& law = scene.law(a, b);
+        const ContactCoefficients law = contact_coefficients(scene, a, b);
         const double ra = rmin[a], rb = rmin[b], overlap = 0.01 * std::min(ra, rb);
-        const double k = law.model == NormalModel::hertz
-                             ? 4.0 / 3.0 * law.effective_modulus * std::sqrt(ra * rb / (ra + rb))
-                             : law.stiffness;
-        const double fn = contact::normal_force({k, 0, law.model == NormalModel::hertz, true}, overlap, 0);
-        const Material &ma = scene.materials[a], &mb = scene.materials[b];
-        const thermal::ConductionLaw cl{law.conduction, ma.conductivity, mb.conductivity, law.conductance,
-                                        law.modulus_ratio, law.effective_modulus, scene.thickness, law.contact_resistance};
-        const double h = thermal::conductance(cl, ra, rb, ra + rb - overlap, fn);
+        const double k = law.normal_stiffness(ra * rb / (ra + rb));
+        const double fn = contact::normal_force({k, 0, law.hertz, true}, overlap, 0);
+        const double h = thermal::conductance(law.conduction, ra, rb, ra + rb - overlap, fn);
+        const Material& ma = scene.materials[a];
         const double c = disc_mass(scene, ra, ma.density) * ma.specific_heat;
         lambda = std::max(lambda, 2 * 6 * h / c);
       }
@@ -125,22 +122,18 @@ StabilityEstimate estimate_stability(const Scene& scene) {
   // frictional T3 pile and T6 drum hold to 1.6 times it, docs/studies.md.)
   const bool packed = scene.n_particles() >= 2;
   auto consider = [&](int a, int b, double m_eff, double r_eff, double speed, const std::string& label) {
-    const PairLaw& law = scene.law(a, b);
-    const bool hertz = law.model == NormalModel::hertz;
+    const ContactCoefficients law = contact_coefficients(scene, a, b);
+    const contact::NormalLaw nl = law.normal_law(m_eff, r_eff);
     double duration, omega;
-    if (hertz) {
-      const double k = 4.0 / 3.0 * law.effective_modulus * std::sqrt(r_eff);
-      duration = contact::hertz_contact_duration(k, m_eff, speed);
-      const double max_overlap = std::pow(1.25 * m_eff * speed * speed / k, 0.4);
-      omega = std::sqrt(1.5 * k * std::sqrt(max_overlap) / m_eff);
+    if (nl.hertz) {
+      duration = contact::hertz_contact_duration(nl.k, m_eff, speed);
+      const double max_overlap = std::pow(1.25 * m_eff * speed * speed / nl.k, 0.4);
+      omega = std::sqrt(1.5 * nl.k * std::sqrt(max_overlap) / m_eff);
     } else {
-      const double beta = law.damping_rate > 0 ? law.damping_rate * std::sqrt(m_eff / law.stiffness)
-                                               : contact::restitution_damping(law.restitution, false, law.tension);
-      const double c = beta * std::sqrt(m_eff * law.stiffness);
-      duration = contact::linear_contact_duration(law.stiffness, c, m_eff);
-      omega = std::sqrt(law.stiffness / m_eff);
+      duration = contact::linear_contact_duration(nl.k, nl.c, m_eff);
+      omega = std::sqrt(nl.k / m_eff);
       // Central-difference limit of a damped oscillator: 2 (sqrt(1 + zeta^2) - zeta) / omega.
-      const double zeta = beta / 2;
+      const double zeta = nl.c / (2 * std::sqrt(m_eff * nl.k));
       omega /= std::sqrt(1 + zeta * zeta) - zeta;
     }
     if (duration < est.contact_duration) {

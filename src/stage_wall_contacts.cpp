@@ -1,0 +1,68 @@
+// The wall contacts stage: every (particle, segment) candidate that touches gets its forces from
+// the kernel. The contact point is at the disc's lever arm, its full radius: the wall's velocity
+// there enters the relative velocity, and the work the wall does on the particle is F . u_wall
+// plus the rolling couple times the wall's spin. What the particles do to each wall (force,
+// torque about its centre, power delivered) is summed into its load.
+#include "src/contact_kernel.h"
+
+namespace kiln {
+
+void DemSystem::wall_contact_forces(Evaluation& e) {
+  const StageTimer timer(profile_, Stage::wall_contacts);
+  const bool history = pp_.history;
+  for (WallLoad& load : wall_loads_) load = {};
+  for (int p = 0, np = pw_.size(); p < np; ++p) {
+    const int i = pw_.i[p], sgi = pw_.j[p];
+    const double r = radius_[i];
+    WallHit hit;
+    if ((events_ && !pw_.active[p]) || !wall_hit(e.x, e.y, seg_a_, seg_b_, i, sgi, hit, events_)) {
+      if (history) forget(pw_, p);
+      continue;
+    }
+    const Vec2 n = hit.normal;
+    const int wall = scene_.segments[sgi].wall;
+    const WallMotion& motion = scene_.walls[wall].motion;
+    const Vec2 point = place(e.x, e.y, i) + r * n;
+    const Vec2 u = wall_velocity_at(motion, point, e.t);
+    const double wall_spin = motion.kind == WallMotion::Kind::rotate ? motion.omega : 0.0;
+    ContactKinematics c;
+    // rho from the continuous position: a wrap across a periodic edge leaves the spring whole.
+    const Vec2 rho = Vec2{e.x[i], e.y[i]} - seg_a_[sgi];  // from a point fixed on the wall
+    c.frame = {n.x, n.y, dot(rho, perp(n)), dot(rho, n)};
+    c.rv = {e.vx[i] - u.x, e.vy[i] - u.y};
+    c.overlap = hit.overlap;
+    c.i = i;
+    c.j = -1;
+    if (history) {
+      c.arm_i = c.arm_then = r;
+      c.w_i = e.w[i];
+      c.w_other = wall_spin;
+      c.spun_i = e.angle[i] - committed_angle_[i];
+      c.spun_other = wall_spin * (e.t - committed_time_);
+    }
+    const ContactForces f = contact(pw_, p, c);
+    e.fx[i] += f.fx;
+    e.fy[i] += f.fy;
+    const double power = f.fx * u.x + f.fy * u.y + f.couple * wall_spin;
+    if (history) {
+      e.torque[i] += r * f.tangential + f.couple;
+      // work_rate = -F_t ((v_i - u) . t + r w_i) - M (w_i - wall spin): the u and spin parts are no g
+      e.g[i] += f.tangential * n.y;
+      e.g[n_ + i] -= f.tangential * n.x;
+      e.g[2 * n_ + i] -= r * f.tangential + f.couple;
+    }
+    e.gd[i] += f.dashpot * n.x;
+    e.gd[n_ + i] += f.dashpot * n.y;
+    e.damping += f.damping_power;
+    e.friction_work += f.work_rate;
+    e.walls_work += power;
+    WallLoad& load = wall_loads_[wall];
+    load.force = load.force - Vec2{f.fx, f.fy};
+    load.torque += cross(point - wall_centre_[wall], Vec2{-f.fx, -f.fy}) - f.couple;
+    load.power += power;
+    if (e.heat) make_heat(e, f.work_rate, f.damping_power, i, -1, laws_[pw_.law[p]].heat_share);
+    e.worst = std::max(e.worst, hit.overlap * inv_radius_[i]);
+  }
+}
+
+}  // namespace kiln
