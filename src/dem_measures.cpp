@@ -7,6 +7,7 @@ EnergyLedger DemSystem::energy(double t, const double* y) const {
   EnergyLedger e;
   const double *px = y + x_at(), *py = y + y_at(), *vx = y + vx_at(), *vy = y + vy_at();
   for (int i = 0; i < n_; ++i) {
+    if (attached(i)) continue;  // part of a wall: outside the particles' balance
     e.kinetic += 0.5 * mass_[i] * (vx[i] * vx[i] + vy[i] * vy[i]);
     if (rotates_) e.kinetic += 0.5 * inertia_[i] * y[omega_at() + i] * y[omega_at() + i];
     // From the initial position (energy.h): x - x0 is exact while x is within a factor 2 of x0, so
@@ -36,7 +37,7 @@ EnergyLedger DemSystem::energy(double t, const double* y) const {
   for (int p = 0; p < pp_.size(); ++p) {
     const int j = pp_.j[p];
     const double overlap = pair_overlap(px, py, p);
-    if (overlap > 0) add(pp_, p, j, overlap);
+    if (overlap > 0 && !(attached(pp_.i[p]) && attached(j))) add(pp_, p, j, overlap);
   }
   for (int p = 0; p < pw_.size(); ++p) {
     const int i = pw_.i[p];

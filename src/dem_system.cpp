@@ -86,7 +86,16 @@ DemSystem::DemSystem(const Scene& scene)
   for (size_t w = 0; w < scene.walls.size(); ++w) {
     moving_walls_ = moving_walls_ || scene.walls[w].motion.kind != WallMotion::Kind::fixed;
     wall_reference_.push_back(wall_reference(scene, static_cast<int>(w)));
+    const bool body = scene.walls[w].motion.kind == WallMotion::Kind::load_controlled;
+    body_of_wall_.push_back(body ? static_cast<int>(body_wall_.size()) : -1);
+    if (body) body_wall_.push_back(static_cast<int>(w));
   }
+  layout_.nq += bodies();
+  body_ref_.assign(bodies(), 0.0);
+  body_acceleration_.assign(bodies(), 0.0);
+  for (int i = 0; i < n_ && !scene.attached.empty(); ++i)
+    if (scene.attached[i] != Scene::free_particle) attached_list_.push_back(i);
+  has_attached_ = !attached_list_.empty();
   x_ref_.resize(n_);
   y_ref_.resize(n_);
   wall_loads_.resize(scene.walls.size());
@@ -103,25 +112,52 @@ std::vector<double> DemSystem::initial_state() const {
     if (rotates_) y[omega_at() + i] = scene_.angular_velocity[i];
     if (thermal_) y[temperature_at() + i] = scene_.temperature[i];
   }
+  // Attached particles start with their wall's motion.
+  for (int i : attached_list_) {
+    const int w = scene_.attached[i];
+    const WallMotion m = w >= 0 ? scene_.walls[w].motion : WallMotion{};
+    const Vec2 u = wall_velocity_at(m, scene_.position[i], 0);
+    y[vx_at() + i] = u.x;
+    y[vy_at() + i] = u.y;
+    if (rotates_) y[omega_at() + i] = m.kind == WallMotion::Kind::rotate ? m.omega : 0.0;
+  }
   return y;
 }
 
-void DemSystem::wall_geometry(double t, const double*, std::vector<Vec2>& a, std::vector<Vec2>& b) const {
+Vec2 DemSystem::body_offset(int w, const double* y) const {
+  const int k = body_of_wall_[w];
+  if (k < 0 || !y) return {};
+  const Vec2 load = scene_.walls[w].motion.load;
+  return (y[body_at() + k] / norm(load)) * load;
+}
+
+Vec2 DemSystem::body_velocity(int w, const double* y) const {
+  const int k = body_of_wall_[w];
+  if (k < 0 || !y) return {};
+  const Vec2 load = scene_.walls[w].motion.load;
+  return (y[body_speed_at() + k] / norm(load)) * load;
+}
+
+void DemSystem::wall_geometry(double t, const double* y, std::vector<Vec2>& a, std::vector<Vec2>& b) const {
   a.resize(scene_.segments.size());
   b.resize(scene_.segments.size());
   for (size_t s = 0; s < scene_.segments.size(); ++s) {
     const Segment& seg = scene_.segments[s];
     const WallMotion& m = scene_.walls[seg.wall].motion;
-    a[s] = wall_point_at(m, seg.a, t);
-    b[s] = wall_point_at(m, seg.b, t);
+    const Vec2 shift = body_offset(seg.wall, y);
+    a[s] = wall_point_at(m, seg.a, t) + shift;
+    b[s] = wall_point_at(m, seg.b, t) + shift;
   }
 }
 
+// Walls where they are at (t, y). Without wall bodies the geometry is a function of t alone and
+// is kept while t does not change.
 void DemSystem::update_walls(double t, const double* y) {
-  if (t == seg_time_) return;
+  if (t == seg_time_ && bodies() == 0) return;
   wall_geometry(t, y, seg_a_, seg_b_);
   wall_centre_.resize(scene_.walls.size());
-  for (size_t w = 0; w < scene_.walls.size(); ++w) wall_centre_[w] = wall_point_at(scene_.walls[w].motion, wall_reference_[w], t);
+  for (size_t w = 0; w < scene_.walls.size(); ++w)
+    wall_centre_[w] = wall_point_at(scene_.walls[w].motion, wall_reference_[w], t) + body_offset(static_cast<int>(w), y);
   seg_time_ = t;
 }
 
@@ -135,6 +171,7 @@ void DemSystem::save(Snapshot& s) const {
   s.put("system.committed_angle", committed_angle_);
   s.put("system.trial_angle", trial_angle_);
   s.put("system.work_force", work_force_);
+  s.put("system.body_reference", body_ref_);
 }
 
 // The Box2D tree is not restored: the candidate pairs are kept as saved, and the next rebuild's
@@ -156,6 +193,7 @@ void DemSystem::restore(const Snapshot& s) {
   committed_angle_ = s.reals("system.committed_angle");
   trial_angle_ = s.reals("system.trial_angle");
   work_force_ = s.reals("system.work_force");
+  body_ref_ = s.reals("system.body_reference");
   if (static_cast<int>(x_ref_.size()) != n_ || pp_.k.size() != pp_.i.size() || pw_.k.size() != pw_.i.size())
     throw InputError("the checkpoint's contact lists do not fit this scene's " + std::to_string(n_) + " particles");
 }
@@ -179,6 +217,8 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
   particle_contact_forces(e);
   wall_contact_forces(e);
   if (e.heat && part == Part::all) e.heat_walls = conduct(t, y, y + temperature_at(), e.heat, true);
+  if (has_attached_) attached_particles(e);
+  if (bodies()) wall_bodies(e, ydot);
   accelerations(e);
   close_ledger(e, ydot);
 }
@@ -191,6 +231,7 @@ DemSystem::Evaluation DemSystem::begin_evaluation(double t, const double* y, dou
   if (moving_walls_) update_walls(t, y);
   Evaluation e;
   e.t = t;
+  e.state = y;
   e.x = y + x_at();
   e.y = y + y_at();
   e.angle = rotates_ ? y + angle_at() : nullptr;
@@ -226,6 +267,49 @@ void DemSystem::accelerations(Evaluation& e) {
     for (int i = 0; i < n_; ++i) e.torque[i] *= inv_inertia_[i];
   if (e.heat)
     for (int i = 0; i < n_; ++i) e.heat[i] *= inv_capacity_[i];
+  // An attached particle follows its wall: no spin change, the wall's acceleration at its place
+  // (a turning wall's centripetal one, a wall body's own).
+  for (int i : attached_list_) {
+    const int w = scene_.attached[i];
+    Vec2 a;
+    if (w >= 0) {
+      const WallMotion& m = scene_.walls[w].motion;
+      if (m.kind == WallMotion::Kind::rotate) a = (-m.omega * m.omega) * (Vec2{e.x[i], e.y[i]} - m.centre);
+      if (body_of_wall_[w] >= 0) {
+        a = (body_acceleration_[body_of_wall_[w]] / norm(m.load)) * m.load;
+      }
+    }
+    e.fx[i] = a.x;
+    e.fy[i] = a.y;
+    if (e.torque) e.torque[i] = 0;
+  }
+}
+
+// Forces on attached particles are forces on their walls: summed into the walls' loads, and the
+// power they take from the particles pushing them is the walls' work.
+void DemSystem::attached_particles(Evaluation& e) {
+  for (int i : attached_list_) {
+    const Vec2 f{e.fx[i], e.fy[i]};
+    const double torque = e.torque ? e.torque[i] : 0.0;
+    e.walls_work -= f.x * e.vx[i] + f.y * e.vy[i] + (e.torque ? torque * e.w[i] : 0.0);
+    const int w = scene_.attached[i];
+    if (w < 0) continue;
+    WallLoad& load = wall_loads_[w];
+    load.force = load.force + f;
+    load.torque += cross(place(e.x, e.y, i) - wall_centre_[w], f) + torque;
+    load.power -= f.x * e.vx[i] + f.y * e.vy[i] + (e.torque ? torque * e.w[i] : 0.0);
+  }
+}
+
+// A load-controlled wall: m s'' = (F_particles + F_load) . e - c s', e the load's direction.
+void DemSystem::wall_bodies(Evaluation& e, double* ydot) {
+  for (int k = 0; k < bodies(); ++k) {
+    const WallMotion& m = scene_.walls[body_wall_[k]].motion;
+    const double load = norm(m.load);
+    const double along = dot(wall_loads_[body_wall_[k]].force, (1 / load) * m.load) + load;
+    body_acceleration_[k] = (along - m.damping * e.state[body_speed_at() + k]) / m.mass;
+    ydot[body_speed_at() + k] = body_acceleration_[k];
+  }
 }
 
 void DemSystem::close_ledger(const Evaluation& e, double* ydot) {
@@ -263,6 +347,8 @@ std::vector<double> DemSystem::absolute_tolerances(const StepControl& c) const {
   fill(vx_at(), 2 * n_, c.atol_velocity);
   fill(omega_at(), n_, c.atol_velocity);
   fill(temperature_at(), n_, c.atol_temperature);
+  fill(body_at(), bodies(), c.atol_position);
+  fill(body_speed_at(), bodies(), c.atol_velocity);
   return atol;
 }
 

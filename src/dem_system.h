@@ -109,6 +109,14 @@ class DemSystem final : public OdeSystem {
   int vx_at() const { return layout_.nq; }
   int vy_at() const { return layout_.nq + n_; }
   int omega_at() const { return rotates_ ? layout_.nq + 2 * n_ : -1; }
+  // Load-controlled walls: each one's position along its load (m) and its speed (m/s), after the
+  // particles' fields; body k is wall body_wall(k).
+  int bodies() const { return static_cast<int>(body_wall_.size()); }
+  int body_wall(int k) const { return body_wall_[k]; }
+  int body_at() const { return (rotates_ ? 3 : 2) * n_; }
+  int body_speed_at() const { return layout_.nq + body_at(); }
+  // Whether particle i moves with a wall (or is fixed) instead of under its forces.
+  bool attached(int i) const { return has_attached_ && scene_.attached[i] != Scene::free_particle; }
   int ledger_at() const { return 2 * layout_.nq; }
   int ledger_count() const { return thermal_ ? ledger_thermal : ledger_mechanical; }
   int temperature_at() const { return thermal_ ? ledger_at() + ledger_thermal : -1; }
@@ -160,6 +168,7 @@ class DemSystem final : public OdeSystem {
   // One force evaluation's inputs, outputs and running sums, shared by its stages.
   struct Evaluation {
     double t = 0;
+    const double* state;
     const double *x, *y, *angle, *vx, *vy, *w;  // state fields (angle, w null without rotation)
     double *fx, *fy, *torque;                    // forces, then accelerations (torque null likewise)
     double* heat = nullptr;                      // thermal scenes: heat flow, then dT/dt
@@ -172,6 +181,8 @@ class DemSystem final : public OdeSystem {
   Evaluation begin_evaluation(double t, const double* y, double* ydot);
   void particle_contact_forces(Evaluation& e);  // stage_particle_contacts.cpp
   void wall_contact_forces(Evaluation& e);      // stage_wall_contacts.cpp
+  void attached_particles(Evaluation& e);       // what pushes them pushes their walls
+  void wall_bodies(Evaluation& e, double* ydot);  // load-controlled walls under their loads
   void accelerations(Evaluation& e);            // forces to accelerations, gravity
   void close_ledger(const Evaluation& e, double* ydot);
   void implicit_conduction(double t, const double* y, double* ydot, const double* temps, bool wall_sources);
@@ -185,6 +196,9 @@ class DemSystem final : public OdeSystem {
   // The contact frames of the touching contacts that have none, at the committed state (t, y).
   void frame_new_contacts(double t, const double* y);
   void update_walls(double t, const double* y);
+  // Where the free coordinate of wall w's body puts it (offset and velocity), in state y.
+  Vec2 body_offset(int w, const double* y) const;
+  Vec2 body_velocity(int w, const double* y) const;
   // A particle's place in the cell (its wrapped image): where walls and the tree see it.
   Vec2 place(const double* px, const double* py, int i) const { return cell_.wrap({px[i], py[i]}); }
 
@@ -267,6 +281,13 @@ class DemSystem final : public OdeSystem {
   double max_overlap_fraction_ = 0;
   std::vector<WallLoad> wall_loads_;
   std::vector<Vec2> wall_reference_, wall_centre_;  // what each wall's torque is about: at t = 0, now
+  std::vector<int> body_wall_;       // the load-controlled walls
+  std::vector<int> body_of_wall_;    // each wall's body index, or -1
+  std::vector<double> body_ref_;     // their positions at the last rebuild
+  std::vector<double> body_acceleration_;  // latest evaluation
+  bool has_attached_ = false;
+  std::vector<int> attached_list_;  // the attached (and fixed) particles
+  std::vector<Vec2> wall_velocity_;  // of each wall's body (driven part plus free part), latest evaluation
   mutable StageProfile profile_;
 
   std::vector<Vec2> seg_a_, seg_b_;  // wall geometry at the latest time asked for

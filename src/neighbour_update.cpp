@@ -30,7 +30,8 @@ void DemSystem::rebuild_neighbours(double t, const double* y, double t_reached, 
   double wall_travel = 0;
   for (size_t w = 0; w < scene_.walls.size(); ++w)
     wall_travel = std::max(wall_travel, wall_max_displacement(scene_.walls[w].motion, scene_.segments,
-                                                              static_cast<int>(w), t, t_reached));
+                                                              static_cast<int>(w), t, t_reached) +
+                                            norm(body_offset(static_cast<int>(w), reached) - body_offset(static_cast<int>(w), y)));
   rebuild(t, y, std::max(3 * travel, 1.5 * (travel + wall_travel)));
 }
 
@@ -77,9 +78,13 @@ bool DemSystem::covers(double t, const double* y, double lookahead) const {
   }
   const double moved = std::sqrt(d2max) + 2 * lookahead * std::sqrt(v2max);
   double wall_moved = 0;
-  for (size_t w = 0; w < scene_.walls.size(); ++w)
+  for (size_t w = 0; w < scene_.walls.size(); ++w) {
+    // A wall body: how far it went since the rebuild, and as far again as its speed takes it.
+    const int k = body_of_wall_[w];
+    const double body = k < 0 ? 0.0 : std::abs(y[body_at() + k] - body_ref_[k]) + 2 * lookahead * std::abs(y[body_speed_at() + k]);
     wall_moved = std::max(wall_moved, wall_max_displacement(scene_.walls[w].motion, scene_.segments,
-                                                            static_cast<int>(w), t_ref_, t + lookahead));
+                                                            static_cast<int>(w), t_ref_, t + lookahead) + body);
+  }
   const double skin = broadphase_.skin();
   return 2 * moved < skin && moved + wall_moved < skin;
 }
@@ -120,6 +125,7 @@ void DemSystem::rebuild(double t, const double* y, double skin) {
   }
   std::copy_n(px, n_, x_ref_.data());
   std::copy_n(py, n_, y_ref_.data());
+  std::copy_n(y + body_at(), bodies(), body_ref_.data());
   t_ref_ = t;
   built_ = true;
   ++rebuilds_;

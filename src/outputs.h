@@ -15,8 +15,20 @@ void write_file_atomically(const std::string& path, const std::string& text);
 // Renames a finished temporary file to its final name (OutputError naming both on failure).
 void publish(const std::string& tmp, const std::string& path);
 
-// result.xdmf describing `frames` frames of `particles` points in the HDF5 file `h5_name`.
-std::string xdmf_document(const std::string& h5_name, int particles, const std::vector<double>& times, bool thermal);
+// What result.h5 holds (output_h5.h lists its datasets), which result.xdmf describes.
+struct ResultLayout {
+  int particles = 0;
+  bool thermal = false;     // a temperature per particle and frame
+  int walls = 0;            // 0: no wall datasets at all
+  int segments = 0;         // the walls' straight segments
+  bool walls_move = false;  // wall_segments per frame (F x S x 4), otherwise once (S x 4)
+};
+
+// result.xdmf for ParaView: per frame, a spatial collection of the particles (points: XYZ geometry
+// from `position`, radius, velocity as a vector, angle, angular_velocity, temperature, id) and,
+// when there are walls, the walls (2 S points of XY read from the rows (x_a, y_a, x_b, y_b) of
+// `wall_segments`, S two-node polylines by `wall_connectivity`, each with the index of its wall).
+std::string xdmf_document(const std::string& h5_name, const ResultLayout& layout, const std::vector<double>& times);
 
 // A picture of one state: discs coloured by `value` (speed or temperature) with a colour bar,
 // walls as lines. Written as PNG by cairo to `path` (checked: OutputError; give a temporary name).
@@ -29,5 +41,15 @@ struct PictureInput {
   std::string title;
 };
 void write_picture(const std::string& path, const PictureInput& in);
+
+// Where write_picture draws: the image's size and the pixel (from its top left corner) of a point.
+struct PictureView {
+  double x0 = 0, y1 = 0, scale = 1;  // the left and top edges of the plot (m), pixels per metre
+  int plot_width = 0, plot_height = 0, bar_width = 0, title_height = 0;
+  Vec2 pixel(Vec2 p) const { return {(p.x - x0) * scale, title_height + (y1 - p.y) * scale}; }
+  int width() const { return plot_width + bar_width; }
+  int height() const { return plot_height + title_height; }
+};
+PictureView picture_view(const PictureInput& in);
 
 }  // namespace kiln

@@ -28,7 +28,7 @@ std::array<double, 3> viridis(double s) {
 
 }  // namespace
 
-void write_picture(const std::string& path, const PictureInput& in) {
+PictureView picture_view(const PictureInput& in) {
   double x0 = INFINITY, y0 = INFINITY, x1 = -INFINITY, y1 = -INFINITY;
   auto grow = [&](Vec2 p, double r) {
     x0 = std::min(x0, p.x - r);
@@ -46,11 +46,22 @@ void write_picture(const std::string& path, const PictureInput& in) {
   y0 -= margin;
   x1 += margin;
   y1 += margin;
-  const int plot_w = 900;
-  const double scale = plot_w / (x1 - x0);
-  const int plot_h = std::clamp(static_cast<int>((y1 - y0) * scale), 100, 2400);
-  const int bar_w = 120, title_h = 36;
-  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, plot_w + bar_w, plot_h + title_h);
+  PictureView v;
+  v.plot_width = 900;
+  v.bar_width = 120;
+  v.title_height = 36;
+  v.x0 = x0;
+  v.y1 = y1;
+  v.scale = v.plot_width / (x1 - x0);
+  v.plot_height = std::clamp(static_cast<int>((y1 - y0) * v.scale), 100, 2400);
+  return v;
+}
+
+void write_picture(const std::string& path, const PictureInput& in) {
+  const PictureView view = picture_view(in);
+  const int plot_w = view.plot_width, plot_h = view.plot_height, title_h = view.title_height;
+  const double scale = view.scale;
+  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, view.width(), view.height());
   cairo_t* cr = cairo_create(surface);
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_paint(cr);
@@ -65,8 +76,8 @@ void write_picture(const std::string& path, const PictureInput& in) {
     vmin = std::isfinite(vmin) ? vmin : 0;
     vmax = vmin + 1;
   }
-  auto sx = [&](double x) { return (x - x0) * scale; };
-  auto sy = [&](double y) { return title_h + (y1 - y) * scale; };
+  auto sx = [&](double x) { return view.pixel({x, 0}).x; };
+  auto sy = [&](double y) { return view.pixel({0, y}).y; };
 
   for (size_t i = 0; i < in.centre.size(); ++i) {
     const auto c = viridis((in.value[i] - vmin) / (vmax - vmin));

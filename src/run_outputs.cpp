@@ -5,9 +5,11 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <stdexcept>
 
 #include "src/error.h"
 #include "src/outputs.h"
@@ -51,6 +53,22 @@ void move_aside(const std::string& dir) {
 
 }  // namespace
 
+bool walls_move(const DemSystem& sys) {
+  for (const Wall& w : sys.scene().walls)
+    if (w.motion.kind != WallMotion::Kind::fixed) return true;
+  return false;
+}
+
+ResultLayout result_layout(const DemSystem& sys) {
+  ResultLayout l;
+  l.particles = sys.particles();
+  l.thermal = sys.thermal();
+  l.walls = static_cast<int>(sys.scene().walls.size());
+  l.segments = static_cast<int>(sys.scene().segments.size());
+  l.walls_move = walls_move(sys);
+  return l;
+}
+
 // One run at a time per directory: two runs writing into one would publish a mix of both. The
 // lock is the kernel's (flock), so it goes with the process however that ends.
 void RunOutputs::lock_directory() {
@@ -62,11 +80,12 @@ void RunOutputs::lock_directory() {
                      "): wait for it to end, or give another --out");
 }
 
-RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id) : dir_(dir), sys_(sys) {
+RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id)
+    : dir_(dir), sys_(sys), layout_(result_layout(sys)) {
   lock_directory();
   move_aside(dir_);
   try {
-    h5_ = std::make_unique<H5Frames>(path("result.h5.tmp"), sys.particles(), sys.thermal());
+    h5_ = std::make_unique<H5Frames>(path("result.h5.tmp"), layout_);
     const Scene& scene = sys.scene();
     h5_->attribute("scene", scene.name);
     h5_->attribute("integrator", scene.integrator);
@@ -76,6 +95,18 @@ RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::
     std::vector<double> r(sys.particles());
     for (int i = 0; i < sys.particles(); ++i) r[i] = sys.radius(i);
     h5_->write_constant(r);
+    if (layout_.walls > 0) {
+      std::vector<int> wall_of_segment;
+      for (const Segment& seg : scene.segments) wall_of_segment.push_back(seg.wall);
+      std::vector<std::string> names;
+      for (const Wall& w : scene.walls) names.push_back(w.name);
+      if (!layout_.walls_move) {
+        const std::vector<double> y0 = sys.initial_state();
+        sys.wall_geometry(0, y0.data(), wall_a_, wall_b_);
+        segments_rows();
+      }
+      h5_->write_walls(wall_of_segment, names, layout_.walls_move ? nullptr : segments_.data());
+    }
   } catch (...) {
     if (h5_) h5_->abandon();
     h5_.reset();
@@ -86,7 +117,7 @@ RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::
 
 RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id, int frames,
                        const Snapshot& checkpoint)
-    : dir_(dir), sys_(sys), resumed_from_(&checkpoint) {
+    : dir_(dir), sys_(sys), layout_(result_layout(sys)), resumed_from_(&checkpoint) {
   lock_directory();
   // The result holding this run's frames up to the checkpoint: the result.h5.tmp of a killed run
   // (a killed resumed run's holds more than result.h5), the frames of a killed run kept by an
@@ -111,7 +142,7 @@ RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::
   try {
     if (error)
       throw OutputError("cannot copy " + path(original) + " to " + path("result.h5.tmp") + ": " + error.message());
-    h5_ = std::make_unique<H5Frames>(path("result.h5.tmp"), sys.particles(), sys.thermal(), frames);
+    h5_ = std::make_unique<H5Frames>(path("result.h5.tmp"), layout_, frames);
     times_ = h5_->times();
   } catch (...) {
     if (h5_) h5_->abandon();
@@ -143,11 +174,77 @@ void RunOutputs::clean_up() {
   }
 }
 
+void RunOutputs::segments_rows() {
+  segments_.resize(4 * wall_a_.size());
+  for (size_t s = 0; s < wall_a_.size(); ++s) {
+    segments_[4 * s] = wall_a_[s].x;
+    segments_[4 * s + 1] = wall_a_[s].y;
+    segments_[4 * s + 2] = wall_b_[s].x;
+    segments_[4 * s + 3] = wall_b_[s].y;
+  }
+}
+
 void RunOutputs::frame(double t, const double* y) {
+  H5Frame f;
+  f.t = t;
+  f.x = y + sys_.x_at();
+  f.y = y + sys_.y_at();
+  if (sys_.cell().any()) {  // the places in the periodic cell, not the continuous positions
+    const int n = sys_.particles();
+    wrapped_.resize(2 * n);
+    for (int i = 0; i < n; ++i) {
+      const Vec2 p = sys_.cell().wrap({f.x[i], f.y[i]});
+      wrapped_[i] = p.x;
+      wrapped_[n + i] = p.y;
+    }
+    f.x = wrapped_.data();
+    f.y = wrapped_.data() + n;
+  }
+  f.vx = y + sys_.vx_at();
+  f.vy = y + sys_.vy_at();
+  f.angle = sys_.rotates() ? y + sys_.angle_at() : nullptr;
+  f.omega = sys_.rotates() ? y + sys_.omega_at() : nullptr;
+  f.temperature = sys_.thermal() ? y + sys_.temperature_at() : nullptr;
+  if (layout_.walls > 0) {
+    if (layout_.walls_move) {
+      sys_.wall_geometry(t, y, wall_a_, wall_b_);
+      segments_rows();
+      f.segments = segments_.data();
+    }
+    // The loads of the system's latest force evaluation (DemSystem::wall_loads).
+    const std::vector<DemSystem::WallLoad>& loads = sys_.wall_loads();
+    if (loads.size() != static_cast<size_t>(layout_.walls))
+      throw std::logic_error("the system gives the loads of " + std::to_string(loads.size()) + " walls, the scene has " +
+                             std::to_string(layout_.walls));
+    wall_force_.resize(2 * loads.size());
+    wall_torque_.resize(loads.size());
+    wall_power_.resize(loads.size());
+    for (size_t w = 0; w < loads.size(); ++w) {
+      wall_force_[2 * w] = loads[w].force.x;
+      wall_force_[2 * w + 1] = loads[w].force.y;
+      wall_torque_[w] = loads[w].torque;
+      wall_power_[w] = loads[w].power;
+    }
+    f.wall_force = wall_force_.data();
+    f.wall_torque = wall_torque_.data();
+    f.wall_power = wall_power_.data();
+  }
+  h5_->append(f);
   times_.push_back(t);
-  h5_->append(t, y + sys_.x_at(), y + sys_.y_at(), y + sys_.vx_at(), y + sys_.vy_at(),
-              sys_.rotates() ? y + sys_.angle_at() : nullptr, sys_.rotates() ? y + sys_.omega_at() : nullptr,
-              sys_.thermal() ? y + sys_.temperature_at() : nullptr);
+}
+
+PictureInput RunOutputs::picture(double t, const double* y, const std::string& title) const {
+  PictureInput pic;
+  for (int i = 0; i < sys_.particles(); ++i) {
+    pic.centre.push_back(sys_.cell().wrap({y[sys_.x_at() + i], y[sys_.y_at() + i]}));
+    pic.radius.push_back(sys_.radius(i));
+    pic.value.push_back(sys_.thermal() ? y[sys_.temperature_at() + i]
+                                       : std::hypot(y[sys_.vx_at() + i], y[sys_.vy_at() + i]));
+  }
+  pic.value_label = sys_.thermal() ? "temperature (C)" : "speed (m/s)";
+  sys_.wall_geometry(t, y, pic.wall_a, pic.wall_b);  // where the walls are at t, moving ones too
+  pic.title = title;
+  return pic;
 }
 
 void RunOutputs::checkpoint(const Snapshot& s) {
@@ -157,19 +254,10 @@ void RunOutputs::checkpoint(const Snapshot& s) {
 
 void RunOutputs::finish(double t, const double* y, const nlohmann::json& summary, const std::string& title) {
   h5_->close();
-  PictureInput pic;
-  for (int i = 0; i < sys_.particles(); ++i) {
-    pic.centre.push_back({y[sys_.x_at() + i], y[sys_.y_at() + i]});
-    pic.radius.push_back(sys_.radius(i));
-    pic.value.push_back(sys_.thermal() ? y[sys_.temperature_at() + i]
-                                       : std::hypot(y[sys_.vx_at() + i], y[sys_.vy_at() + i]));
-  }
-  pic.value_label = sys_.thermal() ? "temperature" : "speed (m/s)";
-  sys_.wall_geometry(t, y, pic.wall_a, pic.wall_b);
-  pic.title = title;
+  const PictureInput pic = picture(t, y, title);
   // Everything is written before anything is published: a failure leaves no final name behind.
   write_picture(path("picture.png.tmp"), pic);
-  write_file(path("result.xdmf.tmp"), xdmf_document("result.h5", sys_.particles(), times_, sys_.thermal()));
+  write_file(path("result.xdmf.tmp"), xdmf_document("result.h5", layout_, times_));
   // A byte that is not UTF-8 (which the scene reader refuses) must not lose the run here.
   write_file(path("summary.json.tmp"), summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   for (const char* name : {"result.h5", "result.xdmf", "picture.png", "summary.json"})

@@ -26,9 +26,16 @@
 
 #include "src/dem_system.h"
 #include "src/output_h5.h"
+#include "src/outputs.h"
 #include "src/snapshot.h"
 
 namespace kiln {
+
+// What result.h5 holds for this system's scene (output_h5.h).
+ResultLayout result_layout(const DemSystem& sys);
+// Whether result.h5 records the wall segments of every frame: some wall can move. (A wall whose
+// position a later kind of motion takes from the state moves too: only this predicate changes.)
+bool walls_move(const DemSystem& sys);
 
 class RunOutputs {
  public:
@@ -55,12 +62,20 @@ class RunOutputs {
 
  private:
   std::string path(const std::string& name) const;
+  // The final state's picture: particles and walls where they are at t.
+  PictureInput picture(double t, const double* y, const std::string& title) const;
+  void segments_rows();  // wall_a_, wall_b_ into segments_ (x_a, y_a, x_b, y_b per segment)
   void lock_directory();
   void clean_up();  // a run that did not finish
   std::string dir_;
   const DemSystem& sys_;
+  const ResultLayout layout_;
   std::unique_ptr<H5Frames> h5_;
   std::vector<double> times_;
+  // Scratch of frame(): the wall segments and loads of one frame.
+  std::vector<Vec2> wall_a_, wall_b_;
+  std::vector<double> segments_, wall_force_, wall_torque_, wall_power_;
+  std::vector<double> wrapped_;  // periodic cells: positions wrapped into the cell
   bool checkpointed_ = false;  // this run wrote checkpoint.h5
   bool done_ = false;
   const Snapshot* resumed_from_ = nullptr;  // a resumed run's checkpoint

@@ -17,6 +17,7 @@
 #include "src/overrides.h"
 #include "src/particle_fill.h"
 #include "src/scene_reader.h"
+#include "src/svg_geometry.h"
 #include "src/wall_geometry.h"
 
 namespace kiln {
@@ -29,7 +30,8 @@ const KeySchema scene_schema = {
     {"", {"name", "description", "mass_model", "thickness", "gravity", "materials", "contact_model", "contacts",
           "conduction_model", "rolling_model", "heat_from_dissipation", "mechanics", "freeze", "particles", "walls",
           "integrator", "rtol", "atol", "contact_events", "linear_solver", "dt", "t_end", "output_interval", "skin",
-          "allow_overlap", "checks", "stop", "report"}},
+          "allow_overlap", "checks", "stop", "report", "periodic"}},
+    {"periodic", {"x", "y"}},
     {"materials", {"*"}},
     {"materials.*", {"density", "youngs_modulus", "poisson_ratio", "stiffness", "restitution", "friction",
                      "rolling_friction", "specific_heat", "conductivity", "electrical_resistivity"}},
@@ -38,15 +40,16 @@ const KeySchema scene_schema = {
                     "tangential_damping_ratio", "conduction", "conductance", "softened_modulus_ratio",
                     "contact_resistance"}},
     {"particles.*", {"material", "radius", "velocity", "random_velocity", "angular_velocity", "temperature", "at",
-                     "fill", "lattice"}},
+                     "fill", "lattice", "attach", "fixed"}},
     {"particles.*.radius", {"uniform"}},
     {"particles.*.random_velocity", {"max", "seed"}},
     {"particles.*.temperature", {"x_split", "left", "right"}},
     {"particles.*.fill", {"rectangle", "polygon", "count", "seed", "attempts"}},
     {"particles.*.lattice", {"kind", "origin", "spacing", "rows", "columns", "jitter", "seed"}},
     {"walls.*", {"name", "material", "motion", "temperature", "segment", "polyline", "box", "circle", "arc", "closed",
-                 "tolerance"}},
-    {"walls.*.motion", {"type", "velocity", "distance", "centre", "rpm"}},
+                 "tolerance", "svg"}},
+    {"walls.*.svg", {"file", "scale", "offset", "tolerance", "group"}},
+    {"walls.*.motion", {"type", "velocity", "distance", "centre", "rpm", "load", "mass", "damping"}},
     {"walls.*.temperature", {"steps", "ramp"}},
     {"walls.*.circle", {"centre", "radius"}},
     {"walls.*.arc", {"centre", "radius", "from_deg", "to_deg"}},
@@ -399,8 +402,15 @@ Placement read_placement(const SceneNode& ps, const Scene& scene, MemoryClaim& c
   return placed;
 }
 
+// attach: WALL or fixed: true on a particle set, resolved once the walls are read.
+struct Attachment {
+  SceneNode node;
+  bool fixed = false;
+  int first = 0, count = 0;
+};
+
 void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& index, ParticleSets& sets,
-                    MemoryClaim& claim) {
+                    MemoryClaim& claim, std::vector<Attachment>& attachments) {
   for (const SceneNode& ps : root["particles"].items()) {
     ps.allow();
     const int mat = index.find(ps["material"]);
@@ -434,6 +444,10 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
       ps.fail("either every particle set gives a temperature (a thermal scene) or none does");
     scene.thermal = static_cast<bool>(temp);
     sets.first.push_back(scene.n_particles());
+    if (ps.has("attach") && ps.has("fixed")) ps.fail("give one of 'attach' (a wall's name) or 'fixed', not both");
+    const int count = static_cast<int>(placed.radius.size());
+    if (auto a = ps.optional("attach")) attachments.push_back({*a, false, scene.n_particles(), count});
+    if (auto f = ps.optional("fixed"); f && f->boolean()) attachments.push_back({*f, true, scene.n_particles(), count});
     for (size_t k = 0; k < placed.radius.size(); ++k) {
       if (temp) scene.temperature.push_back(placed.position[k].x < x_split ? t_left : t_right);
       scene.position.push_back(placed.position[k]);
@@ -454,9 +468,20 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
 
 WallMotion read_motion(const SceneNode& m) {
   WallMotion motion;
-  const std::string kind = m["type"].choice({"fixed", "translate", "rotate"});
+  const std::string kind = m["type"].choice({"fixed", "translate", "rotate", "load_controlled"});
   if (kind == "fixed") {
     m.allow({"type"});
+  } else if (kind == "load_controlled") {
+    m.allow({"type", "velocity", "load", "mass", "damping"});
+    motion.kind = WallMotion::Kind::load_controlled;
+    motion.velocity = m.has("velocity") ? m["velocity"].vec2() : Vec2{};
+    motion.load = m["load"].vec2();
+    motion.mass = m["mass"].positive();
+    motion.damping = m.has("damping") ? m["damping"].non_negative() : 0.0;
+    if (norm(motion.load) == 0) m["load"].fail("a load-controlled wall needs a non-zero load (N)");
+    // The body is driven along the velocity and free along the load: the two must not share a direction.
+    if (std::abs(dot(motion.velocity, motion.load)) > 1e-12 * norm(motion.velocity) * norm(motion.load))
+      m["velocity"].fail("the driven velocity must be perpendicular to the load: the wall is free along the load");
   } else if (kind == "translate") {
     m.allow({"type", "velocity", "distance"});
     motion.kind = WallMotion::Kind::translate;
@@ -542,28 +567,146 @@ void read_wall_shape(const SceneNode& w, int id, double tolerance, std::vector<S
   }
 }
 
+// svg: {file, scale, offset, tolerance, group}: the drawing's groups as walls (file relative to
+// the scene file). Without `group` each group of the drawing becomes a wall named after its id
+// (the entry's name, then the id, when it has a name); with it, only that group, named as the entry.
+struct DrawnWall {
+  std::string name;
+  std::vector<SvgPolyline> lines;
+};
+std::vector<DrawnWall> read_svg_entry(const SceneNode& node, const std::string& scene_file, const std::string& name,
+                                      double tolerance) {
+  node.allow();
+  std::string file = node["file"].text();
+  if (!file.empty() && file.front() != '/') {
+    const size_t slash = scene_file.rfind('/');
+    if (slash != std::string::npos) file = scene_file.substr(0, slash + 1) + file;
+  }
+  SvgPlacement placement;
+  placement.scale = node.has("scale") ? node["scale"].positive() : 1.0;
+  placement.offset = node.has("offset") ? point(node["offset"]) : Vec2{};
+  placement.tolerance = node.has("tolerance") ? node["tolerance"].positive() : tolerance;
+  std::vector<SvgGroup> groups;
+  try {
+    groups = read_svg_walls(file, placement);
+  } catch (const InputError& e) {
+    node["file"].fail(e.what());
+  }
+  std::vector<DrawnWall> walls;
+  if (auto g = node.optional("group")) {
+    const std::string wanted = g->text();
+    std::vector<std::string> ids;
+    for (const SvgGroup& group : groups) {
+      ids.push_back(group.id);
+      if (group.id == wanted) walls.push_back({name, group.lines});
+    }
+    if (walls.empty()) g->fail("the drawing has no group '" + wanted + "'; its groups are " + choices_nearest_first(wanted, ids));
+    return walls;
+  }
+  for (const SvgGroup& group : groups) {
+    const std::string id = group.id.empty() ? "drawing" : group.id;
+    walls.push_back({name.empty() ? id : name + "." + id, group.lines});
+  }
+  return walls;
+}
+
+// Circles, arcs and drawn curves are flattened by default to a hundredth of the smallest particle
+// radius: a wall's chords then depart from the curve by less than the overlaps of its contacts
+// (an absolute default made a drum of 100 um radius a heptagon).
+double default_tolerance(const Scene& scene) {
+  return 0.01 * *std::min_element(scene.radius.begin(), scene.radius.end());
+}
+
 void read_walls(const SceneNode& root, Scene& scene, const MaterialIndex& index, MemoryClaim& claim) {
   const auto walls = root.optional("walls");
   if (!walls) return;
   for (const SceneNode& w : walls->items()) {
     w.allow();
     Wall wall;
-    const int id = static_cast<int>(scene.walls.size());
-    wall.name = w.has("name") ? w["name"].text() : "wall" + std::to_string(id);
     wall.material = index.find(w["material"]);
     if (auto m = w.optional("motion")) wall.motion = read_motion(*m);
     if (auto t = w.optional("temperature")) wall.temperature = read_wall_temperature(*t);
-    const int shapes = w.has("segment") + w.has("polyline") + w.has("box") + w.has("circle") + w.has("arc");
-    if (shapes != 1) w.fail("give exactly one shape: segment, polyline, box, circle or arc");
-    const double tolerance = w.has("tolerance") ? w["tolerance"].positive() : 1e-5;
-    const size_t before = scene.segments.size();
-    read_wall_shape(w, id, tolerance, scene.segments);
-    claim.add_segments(w, scene.segments.size() - before);
-    for (size_t s = before; s < scene.segments.size(); ++s)
-      if (norm(scene.segments[s].b - scene.segments[s].a) == 0) w.fail("a wall segment has zero length");
-    scene.walls.push_back(wall);
+    const int shapes = w.has("segment") + w.has("polyline") + w.has("box") + w.has("circle") + w.has("arc") + w.has("svg");
+    if (shapes != 1) w.fail("give exactly one shape: segment, polyline, box, circle, arc or svg");
+    const double tolerance = w.has("tolerance") ? w["tolerance"].positive() : default_tolerance(scene);
+    const std::string name = w.has("name") ? w["name"].text() : "";
+    std::vector<DrawnWall> drawn;
+    if (auto svg = w.optional("svg")) {
+      drawn = read_svg_entry(*svg, scene.file, name, tolerance);
+    } else {
+      drawn.push_back({name.empty() ? "wall" + std::to_string(scene.walls.size()) : name, {}});
+    }
+    for (const DrawnWall& d : drawn) {
+      const int id = static_cast<int>(scene.walls.size());
+      const size_t before = scene.segments.size();
+      if (w.has("svg")) {
+        for (const SvgPolyline& line : d.lines) add_polyline(scene.segments, line.points, line.closed, id);
+      } else {
+        read_wall_shape(w, id, tolerance, scene.segments);
+      }
+      claim.add_segments(w, scene.segments.size() - before);
+      for (size_t s = before; s < scene.segments.size(); ++s)
+        if (norm(scene.segments[s].b - scene.segments[s].a) == 0) w.fail("a wall segment has zero length");
+      wall.name = d.name;
+      for (const Wall& other : scene.walls)
+        if (other.name == wall.name) (w.has("name") ? w["name"] : w).fail("a wall named '" + wall.name + "' exists already");
+      scene.walls.push_back(wall);
+    }
   }
 }
+
+void attach_particles(const std::vector<Attachment>& attachments, Scene& scene) {
+  scene.attached.assign(scene.n_particles(), Scene::free_particle);
+  for (const Attachment& a : attachments) {
+    int to = Scene::fixed_particle;
+    if (!a.fixed) {
+      const std::string name = a.node.text();
+      std::vector<std::string> names;
+      to = -3;
+      for (size_t w = 0; w < scene.walls.size(); ++w) {
+        names.push_back(scene.walls[w].name);
+        if (scene.walls[w].name == name) to = static_cast<int>(w);
+      }
+      if (to == -3) a.node.fail("no wall is named '" + name + "'; the walls are " + choices_nearest_first(name, names));
+      const WallMotion& m = scene.walls[to].motion;
+      if (m.kind == WallMotion::Kind::translate && std::isfinite(m.distance))
+        a.node.fail("particles cannot follow a wall that stops after a distance: their velocity would have to jump");
+    }
+    std::fill_n(scene.attached.begin() + a.first, a.count, to);
+  }
+}
+
+// periodic: {x: [x0, x1], y: [y0, y1]}: the cell repeats along each axis given. Every particle
+// starts inside it, and a period is at least four of the largest diameters, so that a particle
+// meets each neighbour through one image only, with room for the neighbour skin.
+void read_periodic(const SceneNode& root, Scene& scene, const ParticleSets& sets) {
+  const auto cell = root.optional("periodic");
+  if (!cell) return;
+  cell->allow();
+  const double largest = *std::max_element(scene.radius.begin(), scene.radius.end());
+  auto axis = [&](const char* key, bool& on, double& lo, double& hi) {
+    const auto range = cell->optional(key);
+    if (!range) return;
+    const auto v = range->items();
+    if (v.size() != 2) range->fail("expected [low, high]");
+    lo = point_of(v[0], v[1]).x;
+    hi = point_of(v[1], v[0]).x;
+    if (!(hi - lo >= 8 * largest))
+      range->fail("the period is shorter than four of the largest particle diameters (8 x " +
+                  std::to_string(largest) + " m): a particle would meet a neighbour through two images");
+    on = true;
+  };
+  PeriodicCell& c = scene.periodic;
+  axis("x", c.x, c.x0, c.x1);
+  axis("y", c.y, c.y0, c.y1);
+  if (!c.any()) cell->fail("give x: [x0, x1] and/or y: [y0, y1]");
+  for (int i = 0; i < scene.n_particles(); ++i) {
+    const Vec2 p = scene.position[i];
+    if ((c.x && !(p.x >= c.x0 && p.x < c.x1)) || (c.y && !(p.y >= c.y0 && p.y < c.y1)))
+      throw InputError(sets.location[sets.of[i]], sets.describe(i) + " starts outside the periodic cell");
+  }
+}
+
 // A pair law that will be used must have what its model needs.
 void check_laws(const Scene& scene, const std::vector<Location>& law_location) {
   const int nm = scene.n_materials();
@@ -614,7 +757,8 @@ void check_initial_contacts(const SceneNode& root, const Scene& scene, const Par
   bp.particle_pairs(x.data(), y.data(), scene.radius.data(), scene.n_particles(), scene.periodic, pairs);
   for (const CandidatePair& p : pairs) {
     const Location& at = sets.location[sets.of[p.j]];
-    const double distance = norm(scene.position[p.j] - scene.position[p.i]);
+    const Vec2 d = scene.position[p.j] - scene.position[p.i];
+    const double distance = norm(scene.periodic.minimum_image(d.x, d.y));
     if (distance == 0)
       throw InputError(at, sets.describe(p.i) + " and " + sets.describe(p.j) +
                                " share a centre: their contact normal is undefined, even with allow_overlap");
@@ -801,8 +945,11 @@ Scene read_scene(const SceneNode& root, const std::string& file, uint64_t memory
   read_contacts(root, scene, index, law_location);
   MemoryClaim claim(memory);
   ParticleSets sets;
-  read_particles(root, scene, index, sets, claim);
+  std::vector<Attachment> attachments;
+  read_particles(root, scene, index, sets, claim, attachments);
   read_walls(root, scene, index, claim);
+  attach_particles(attachments, scene);
+  read_periodic(root, scene, sets);
   read_heat(root, scene);
   check_laws(scene, law_location);
   check_initial_contacts(root, scene, sets);

@@ -150,6 +150,7 @@ class SceneRun {
   Ended run_stage(Integrator& stepper, bool moving);
   Ended at_frame(bool moving, bool at_end);
   void count_contacts();
+  void sum_wall_loads();
   void save_checkpoint();
   void close_stage(Integrator& stepper, nlohmann::json& stats);
   nlohmann::json summary(Ended ended);
@@ -209,6 +210,9 @@ class SceneRun {
   std::vector<double> history_time_, history_error_;
   double contacts_sum_ = 0;
   long contact_samples_ = 0;
+  // Each wall's force (x, y), torque and power summed over the frames: summary.json's means.
+  std::vector<double> wall_sums_;
+  long wall_samples_ = 0;
   double frozen_at_ = NAN;
   nlohmann::json frozen_network_, integrator_stats_ = nlohmann::json::object();
 };
@@ -321,6 +325,18 @@ void SceneRun::enter_heat_stage(bool freezing, const Snapshot* s) {
     heat_stepper_->start(*network_, t_, y_.data() + system_.ledger_at(), stage_dt_);
 }
 
+void SceneRun::sum_wall_loads() {
+  const auto& loads = system_.wall_loads();
+  wall_sums_.resize(4 * loads.size());
+  for (size_t w = 0; w < loads.size(); ++w) {
+    wall_sums_[4 * w] += loads[w].force.x;
+    wall_sums_[4 * w + 1] += loads[w].force.y;
+    wall_sums_[4 * w + 2] += loads[w].torque;
+    wall_sums_[4 * w + 3] += loads[w].power;
+  }
+  ++wall_samples_;
+}
+
 void SceneRun::count_contacts() {
   const auto c = system_.count_contacts(t_, y_.data());
   contacts_sum_ += (2.0 * c.particle_particle + c.particle_wall) / system_.particles();
@@ -344,6 +360,7 @@ SceneRun::Ended SceneRun::at_frame(bool moving, bool at_end) {
     if (files_) files_->frame(t_, y_.data());
   }
   count_contacts();
+  sum_wall_loads();
   progress_.update(t_, scene_.t_end);
   if (moving && !at_end && scene_.stop_kinetic_energy > 0 && t_ >= scene_.stop_not_before &&
       now.kinetic < scene_.stop_kinetic_energy)
@@ -449,6 +466,8 @@ void SceneRun::save_checkpoint() {
   s.put("history.time", history_time_);
   s.put("history.balance_error", history_error_);
   s.put("contacts", {contacts_sum_, static_cast<double>(contact_samples_)});
+  s.put("walls.sums", wall_sums_);
+  s.put_integer("walls.samples", wall_samples_);
   s.put("frozen_at", frozen_at_);
   s.put_integers("totals", std::vector<long>{total_steps_, total_rhs_});
   all_steps_.save(s, "all_steps");
@@ -489,6 +508,8 @@ void SceneRun::resume(const Snapshot& s) {
   const std::vector<double>& contacts = s.reals("contacts");
   contacts_sum_ = contacts.at(0);
   contact_samples_ = static_cast<long>(contacts.at(1));
+  wall_sums_ = s.reals("walls.sums");
+  wall_samples_ = static_cast<long>(s.integer("walls.samples"));
   frozen_at_ = s.real("frozen_at");
   const std::vector<long long>& totals = s.integers("totals");
   total_steps_ = totals.at(0);
@@ -549,6 +570,17 @@ nlohmann::json SceneRun::summary(Ended ended) {
   summary["rotation"] = system_.rotates();
   summary["thermal"] = system_.thermal();
   summary["mean_contacts"] = contacts_sum_ / contact_samples_;
+  // What the particles did to each wall, averaged over the frames (result.h5 has every frame):
+  // force on the wall (N), torque about its centre (N m), power it delivered (W).
+  summary["walls"] = nlohmann::json::array();
+  for (size_t w = 0; w < scene_.walls.size() && wall_samples_ > 0; ++w) {
+    const double* sum = wall_sums_.data() + 4 * w;
+    const double n = static_cast<double>(wall_samples_);
+    summary["walls"].push_back({{"name", scene_.walls[w].name},
+                                {"mean_force", {sum[0] / n, sum[1] / n}},
+                                {"mean_torque", sum[2] / n},
+                                {"mean_power", sum[3] / n}});
+  }
   summary["neighbour_rebuilds"] = system_.rebuilds();
   summary["skin"] = system_.skin();
   summary["energy"] = ledger_json(final_energy, initial_, system_.thermal());

@@ -15,7 +15,8 @@ void DemSystem::particle_contact_forces(Evaluation& e) {
     const double d2 = d.x * d.x + d.y * d.y;
     // With contact events the acting set is locked for the step: an acting contact keeps its
     // (continued) law past separation until its release is located, a new one waits for its onset.
-    if (events_ ? !pp_.active[p] : d2 >= rsum * rsum) {
+    // Two particles of walls (attached or fixed) do not touch: walls do not touch walls.
+    if ((events_ ? !pp_.active[p] : d2 >= rsum * rsum) || (has_attached_ && attached(i) && attached(j))) {
       if (history) forget(pp_, p);
       continue;
     }

@@ -15,7 +15,8 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     const int i = pw_.i[p], sgi = pw_.j[p];
     const double r = radius_[i];
     WallHit hit;
-    if ((events_ && !pw_.active[p]) || !wall_hit(e.x, e.y, seg_a_, seg_b_, i, sgi, hit, events_)) {
+    // An attached particle is part of a wall: walls do not touch walls.
+    if ((events_ && !pw_.active[p]) || attached(i) || !wall_hit(e.x, e.y, seg_a_, seg_b_, i, sgi, hit, events_)) {
       if (history) forget(pw_, p);
       continue;
     }
@@ -23,7 +24,7 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     const int wall = scene_.segments[sgi].wall;
     const WallMotion& motion = scene_.walls[wall].motion;
     const Vec2 point = place(e.x, e.y, i) + r * n;
-    const Vec2 u = wall_velocity_at(motion, point, e.t);
+    const Vec2 u = wall_velocity_at(motion, point, e.t) + body_velocity(wall, e.state);
     const double wall_spin = motion.kind == WallMotion::Kind::rotate ? motion.omega : 0.0;
     ContactKinematics c;
     // rho from the continuous position: a wrap across a periodic edge leaves the spring whole.

@@ -46,6 +46,8 @@ Vec2 wall_point_at(const WallMotion& m, Vec2 p0, double t) {
       return p0;
     case WallMotion::Kind::translate:
       return p0 + std::min(t, travel_time(m)) * m.velocity;
+    case WallMotion::Kind::load_controlled:  // its driven part; DemSystem adds the free one
+      return p0 + t * m.velocity;
     case WallMotion::Kind::rotate:
       return m.centre + rotated(p0 - m.centre, m.omega * t);
   }
@@ -58,6 +60,8 @@ Vec2 wall_velocity_at(const WallMotion& m, Vec2 p, double t) {
       return {};
     case WallMotion::Kind::translate:
       return t < travel_time(m) ? m.velocity : Vec2{};
+    case WallMotion::Kind::load_controlled:
+      return m.velocity;
     case WallMotion::Kind::rotate:
       return m.omega * perp(p - m.centre);
   }
@@ -69,6 +73,8 @@ double wall_max_displacement(const WallMotion& m, const std::vector<Segment>& se
   switch (m.kind) {
     case WallMotion::Kind::fixed:
       return 0;
+    case WallMotion::Kind::load_controlled:
+      return norm(m.velocity) * std::abs(t1 - t0);
     case WallMotion::Kind::translate: {
       const double tt = travel_time(m);
       return norm(m.velocity) * std::max(0.0, std::min(t1, tt) - std::min(t0, tt));

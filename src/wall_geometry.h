@@ -54,7 +54,8 @@ inline bool disc_segment_contact(const std::vector<Segment>& segments, const std
   return true;
 }
 
-// Rigid-body motion of a wall.
+// Rigid-body motion of a wall (of a load-controlled wall, its driven part: the free part along the
+// load is the state's, added by DemSystem).
 Vec2 wall_point_at(const WallMotion& motion, Vec2 point0, double t);  // where point0 (at t=0) is at t
 Vec2 wall_velocity_at(const WallMotion& motion, Vec2 world_point, double t);
 // Largest distance any point of the given segments can have moved between t0 and t1.

@@ -220,7 +220,7 @@ TEST_CASE("freeze: a settled pile keeps its positions while heat moves with a la
   REQUIRE(s["frozen_at"].is_number());
   const double frozen_at = s["frozen_at"].get<double>();
   CHECK(frozen_at < 1.5);
-  const auto positions = read_frames(dir / "result.h5", "position", 200);
+  const auto positions = read_frames(dir / "result.h5", "position", 300);  // 100 x (x, y, 0)
   const auto times = read_frames(dir / "result.h5", "time", 1);
   size_t first_frozen = 0;
   while (times[first_frozen][0] < frozen_at) ++first_frozen;
