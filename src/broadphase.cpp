@@ -68,6 +68,9 @@ void Broadphase::particle_pairs(const double* x, const double* y, const double* 
   // In a periodic cell a particle near an edge also looks for neighbours around its images
   // across that edge; the exact test takes the nearest images.
   const double lx = cell.x ? cell.length_x() : 0, ly = cell.y ? cell.length_y() : 0;
+  // A pair is kept from its first particle's query only: that particle looks across an edge when
+  // any neighbour (the largest one included) could reach it there.
+  const double largest = cell.any() && n > 0 ? *std::max_element(r, r + n) : 0.0;
   for (int i = 0; i < n; ++i) {
     const size_t first = out.size();
     const double reach = r[i] + skin_;
@@ -77,8 +80,9 @@ void Broadphase::particle_pairs(const double* x, const double* y, const double* 
       const double rr = r[i] + r[j] + skin_;
       if (d.x * d.x + d.y * d.y < rr * rr) out.push_back({i, j});
     };
-    const int sx = cell.x ? (x[i] - reach < cell.x0 ? 1 : x[i] + reach >= cell.x1 ? -1 : 0) : 0;
-    const int sy = cell.y ? (y[i] - reach < cell.y0 ? 1 : y[i] + reach >= cell.y1 ? -1 : 0) : 0;
+    const double across = reach + largest;
+    const int sx = cell.x ? (x[i] - across < cell.x0 ? 1 : x[i] + across >= cell.x1 ? -1 : 0) : 0;
+    const int sy = cell.y ? (y[i] - across < cell.y0 ? 1 : y[i] + across >= cell.y1 ? -1 : 0) : 0;
     for (int ix = 0; ix <= (sx != 0); ++ix)
       for (int iy = 0; iy <= (sy != 0); ++iy) {
         const double ox = ix * sx * lx, oy = iy * sy * ly;

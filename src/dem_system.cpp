@@ -96,6 +96,7 @@ DemSystem::DemSystem(const Scene& scene)
   for (int i = 0; i < n_ && !scene.attached.empty(); ++i)
     if (scene.attached[i] != Scene::free_particle) attached_list_.push_back(i);
   has_attached_ = !attached_list_.empty();
+  works_ = bodies() || has_attached_ ? 3 : 2;
   x_ref_.resize(n_);
   y_ref_.resize(n_);
   wall_loads_.resize(scene.walls.size());
@@ -172,6 +173,9 @@ void DemSystem::save(Snapshot& s) const {
   s.put("system.trial_angle", trial_angle_);
   s.put("system.work_force", work_force_);
   s.put("system.body_reference", body_ref_);
+  std::vector<double> images;
+  for (Vec2 v : image_ref_) images.insert(images.end(), {v.x, v.y});
+  s.put("system.images", images);
 }
 
 // The Box2D tree is not restored: the candidate pairs are kept as saved, and the next rebuild's
@@ -194,6 +198,11 @@ void DemSystem::restore(const Snapshot& s) {
   trial_angle_ = s.reals("system.trial_angle");
   work_force_ = s.reals("system.work_force");
   body_ref_ = s.reals("system.body_reference");
+  const std::vector<double>& images = s.reals("system.images");
+  image_ref_.clear();
+  for (size_t k = 0; k + 1 < images.size(); k += 2) image_ref_.push_back({images[k], images[k + 1]});
+  if (cell_.any() && static_cast<int>(image_ref_.size()) != n_)
+    throw InputError("the checkpoint's periodic images do not fit this scene's " + std::to_string(n_) + " particles");
   if (static_cast<int>(x_ref_.size()) != n_ || pp_.k.size() != pp_.i.size() || pw_.k.size() != pw_.i.size())
     throw InputError("the checkpoint's contact lists do not fit this scene's " + std::to_string(n_) + " particles");
 }
@@ -247,9 +256,10 @@ DemSystem::Evaluation DemSystem::begin_evaluation(double t, const double* y, dou
     e.heat = ydot + temperature_at();
     std::fill_n(e.heat, n_, 0.0);
   }
-  work_force_.assign(2 * nq, 0.0);
+  work_force_.assign(works_ * nq, 0.0);
   e.gd = work_force_.data();
   e.g = e.gd + nq;
+  if (works_ == 3) e.gw = e.gd + 2 * nq;
   if (pp_.history) {
     std::copy_n(e.angle, n_, trial_angle_.data());
     trial_time_ = t;
@@ -292,6 +302,9 @@ void DemSystem::attached_particles(Evaluation& e) {
     const Vec2 f{e.fx[i], e.fy[i]};
     const double torque = e.torque ? e.torque[i] : 0.0;
     e.walls_work -= f.x * e.vx[i] + f.y * e.vy[i] + (e.torque ? torque * e.w[i] : 0.0);
+    e.gw[i] -= f.x;
+    e.gw[n_ + i] -= f.y;
+    if (e.torque) e.gw[2 * n_ + i] -= torque;
     const int w = scene_.attached[i];
     if (w < 0) continue;
     WallLoad& load = wall_loads_[w];

@@ -84,10 +84,11 @@ class DemSystem final : public OdeSystem {
   std::vector<double> absolute_tolerances(const StepControl& c) const override;
   // The damping and friction ledgers are works: their velocity-linear parts are minus the
   // dashpot forces, and minus the friction forces and rolling and friction torques, on the
-  // particles, times their velocities.
+  // particles, times their velocities. So is the walls' ledger where walls move with the state
+  // (wall bodies, attached particles): minus the forces on those, times their velocities.
   int work_components(const double** g) const override {
     *g = work_force_.data();
-    return 2;  // ledger_damping, ledger_friction
+    return works_;  // ledger_damping, ledger_friction[, ledger_walls]
   }
   // Contact events: one function per candidate contact, its overlap (onset when it rises through 0).
   int event_count() const override { return events_ ? pp_.size() + pw_.size() : 0; }
@@ -173,6 +174,7 @@ class DemSystem final : public OdeSystem {
     double *fx, *fy, *torque;                    // forces, then accelerations (torque null likewise)
     double* heat = nullptr;                      // thermal scenes: heat flow, then dT/dt
     double *gd = nullptr, *g = nullptr;          // work forces of the damping and friction ledgers
+    double* gw = nullptr;                        // ... and of the walls' (wall bodies, attached particles)
     double damping = 0, friction_work = 0, walls_work = 0, heat_generated = 0, heat_walls = 0;
     double worst = 0;  // largest overlap / radius
   };
@@ -270,6 +272,8 @@ class DemSystem final : public OdeSystem {
   ContactList pp_, pw_;
   std::vector<double> x_ref_, y_ref_;  // positions at the last rebuild
   std::vector<double> wrapped_x_, wrapped_y_;  // periodic cells: the places the tree saw
+  std::vector<Vec2> image_ref_;                // ... and which image of the cell each was in
+  Vec2 image_of(double x, double y) const { return Vec2{x, y} - cell_.wrap({x, y}); }
   double t_ref_ = 0;
   bool built_ = false;
   long rebuilds_ = 0;
@@ -278,6 +282,7 @@ class DemSystem final : public OdeSystem {
   std::vector<double> committed_angle_, trial_angle_;
   double committed_time_ = 0, trial_time_ = 0;
   std::vector<double> work_force_;  // see work_components(), from the latest evaluation
+  int works_ = 2;
   double max_overlap_fraction_ = 0;
   std::vector<WallLoad> wall_loads_;
   std::vector<Vec2> wall_reference_, wall_centre_;  // what each wall's torque is about: at t = 0, now

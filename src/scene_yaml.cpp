@@ -592,21 +592,20 @@ std::vector<DrawnWall> read_svg_entry(const SceneNode& node, const std::string& 
   } catch (const InputError& e) {
     node["file"].fail(e.what());
   }
+  // Lines outside any named group or layer form the group "drawing".
+  auto id_of = [](const SvgGroup& group) { return group.id.empty() ? std::string("drawing") : group.id; };
   std::vector<DrawnWall> walls;
   if (auto g = node.optional("group")) {
     const std::string wanted = g->text();
     std::vector<std::string> ids;
     for (const SvgGroup& group : groups) {
-      ids.push_back(group.id);
-      if (group.id == wanted) walls.push_back({name, group.lines});
+      ids.push_back(id_of(group));
+      if (id_of(group) == wanted) walls.push_back({name.empty() ? wanted : name, group.lines});
     }
     if (walls.empty()) g->fail("the drawing has no group '" + wanted + "'; its groups are " + choices_nearest_first(wanted, ids));
     return walls;
   }
-  for (const SvgGroup& group : groups) {
-    const std::string id = group.id.empty() ? "drawing" : group.id;
-    walls.push_back({name.empty() ? id : name + "." + id, group.lines});
-  }
+  for (const SvgGroup& group : groups) walls.push_back({name.empty() ? id_of(group) : name + "." + id_of(group), group.lines});
   return walls;
 }
 
@@ -628,7 +627,11 @@ void read_walls(const SceneNode& root, Scene& scene, const MaterialIndex& index,
     if (auto t = w.optional("temperature")) wall.temperature = read_wall_temperature(*t);
     const int shapes = w.has("segment") + w.has("polyline") + w.has("box") + w.has("circle") + w.has("arc") + w.has("svg");
     if (shapes != 1) w.fail("give exactly one shape: segment, polyline, box, circle, arc or svg");
-    const double tolerance = w.has("tolerance") ? w["tolerance"].positive() : default_tolerance(scene);
+    // Only curves are flattened: on straight shapes a tolerance is not read (and so refused).
+    const bool curved = w.has("circle") || w.has("arc") || w.has("svg");
+    if (w.has("svg") && w.has("tolerance") && w["svg"].has("tolerance"))
+      w["tolerance"].fail("give the tolerance once: here or as svg.tolerance");
+    const double tolerance = curved && w.has("tolerance") ? w["tolerance"].positive() : default_tolerance(scene);
     const std::string name = w.has("name") ? w["name"].text() : "";
     std::vector<DrawnWall> drawn;
     if (auto svg = w.optional("svg")) {
@@ -636,6 +639,11 @@ void read_walls(const SceneNode& root, Scene& scene, const MaterialIndex& index,
     } else {
       drawn.push_back({name.empty() ? "wall" + std::to_string(scene.walls.size()) : name, {}});
     }
+    // One body under one load: a drawing of several groups is several walls, each of which would
+    // carry the whole mass and load.
+    if (drawn.size() > 1 && wall.motion.kind == WallMotion::Kind::load_controlled)
+      w["motion"].fail("a load-controlled wall is one body: this drawing has " + std::to_string(drawn.size()) +
+                       " groups; pick one with svg.group, or draw the wall as one group");
     for (const DrawnWall& d : drawn) {
       const int id = static_cast<int>(scene.walls.size());
       const size_t before = scene.segments.size();
@@ -676,6 +684,13 @@ void attach_particles(const std::vector<Attachment>& attachments, Scene& scene) 
   }
 }
 
+// A number in as few digits as it needs (1e-07, 0.002).
+std::string shortest(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
 // periodic: {x: [x0, x1], y: [y0, y1]}: the cell repeats along each axis given. Every particle
 // starts inside it, and a period is at least four of the largest diameters, so that a particle
 // meets each neighbour through one image only, with room for the neighbour skin.
@@ -692,8 +707,8 @@ void read_periodic(const SceneNode& root, Scene& scene, const ParticleSets& sets
     lo = point_of(v[0], v[1]).x;
     hi = point_of(v[1], v[0]).x;
     if (!(hi - lo >= 8 * largest))
-      range->fail("the period is shorter than four of the largest particle diameters (8 x " +
-                  std::to_string(largest) + " m): a particle would meet a neighbour through two images");
+      range->fail("the period is shorter than four of the largest particle diameters (8 x " + shortest(largest) +
+                  " m): a particle would meet a neighbour through two images");
     on = true;
   };
   PeriodicCell& c = scene.periodic;

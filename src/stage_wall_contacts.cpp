@@ -57,6 +57,8 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     e.damping += f.damping_power;
     e.friction_work += f.work_rate;
     e.walls_work += power;
+    if (const int k = body_of_wall_[wall]; k >= 0)  // the part through the body's speed: a work
+      e.gw[body_at() + k] += dot(Vec2{f.fx, f.fy}, (1 / norm(motion.load)) * motion.load);
     WallLoad& load = wall_loads_[wall];
     load.force = load.force - Vec2{f.fx, f.fy};
     load.torque += cross(point - wall_centre_[wall], Vec2{-f.fx, -f.fy}) - f.couple;
