@@ -152,8 +152,12 @@ StabilityEstimate estimate_stability(const Scene& scene) {
       consider(a, b, mass_a * mass_b / (mass_a + mass_b), rmin[a] * rmin[b] / (rmin[a] + rmin[b]), speeds.pair,
                ma.name + "-" + scene.materials[b].name);
     }
-    for (const Wall& w : scene.walls)
-      consider(a, w.material, mass_a, rmin[a], speeds.wall, ma.name + "-wall(" + w.name + ")");
+    // A wall is of infinite mass, except a load-controlled wall body: its own mass enters the pair.
+    for (const Wall& w : scene.walls) {
+      const double m_wall = w.motion.kind == WallMotion::Kind::load_controlled ? w.motion.mass : INFINITY;
+      const double m_eff = std::isfinite(m_wall) ? mass_a * m_wall / (mass_a + m_wall) : mass_a;
+      consider(a, w.material, m_eff, rmin[a], speeds.wall, ma.name + "-wall(" + w.name + ")");
+    }
     if (ma.youngs_modulus > 0) {
       const double shear = ma.youngs_modulus / (2 * (1 + ma.poisson_ratio));
       est.rayleigh = std::min(est.rayleigh, M_PI * rmin[a] * std::sqrt(ma.density / shear) /
