@@ -94,23 +94,44 @@ void Broadphase::particle_pairs(const double* x, const double* y, const double* 
 }
 
 void Broadphase::wall_pairs(const double* x, const double* y, const double* r, int n, const std::vector<Vec2>& a,
-                            const std::vector<Vec2>& b, std::vector<CandidatePair>& out) {
+                            const std::vector<Vec2>& b, const PeriodicCell& cell, std::vector<CandidatePair>& out) {
   // Walls may move between rebuilds: rebuild their (small) tree from the current geometry.
   for (int32 id : segment_proxy_) segments_.DestroyProxy(id);
   segment_proxy_.clear();
-  for (size_t s = 0; s < a.size(); ++s)
-    segment_proxy_.push_back(segments_.CreateProxy(box(std::min(a[s].x, b[s].x), std::min(a[s].y, b[s].y),
-                                                       std::max(a[s].x, b[s].x), std::max(a[s].y, b[s].y)),
-                                                   as_user_data(static_cast<int>(s))));
+  // In a periodic cell each segment enters the tree shifted by whole periods to have its middle in
+  // the cell: a wall driven along a periodic axis leaves the cell, and the particles' neighbouring
+  // images must still find it.
+  for (size_t s = 0; s < a.size(); ++s) {
+    const Vec2 mid = 0.5 * (a[s] + b[s]), shift = cell.wrap(mid) - mid;
+    segment_proxy_.push_back(segments_.CreateProxy(
+        box(std::min(a[s].x, b[s].x) + shift.x, std::min(a[s].y, b[s].y) + shift.y,
+            std::max(a[s].x, b[s].x) + shift.x, std::max(a[s].y, b[s].y) + shift.y),
+        as_user_data(static_cast<int>(s))));
+  }
   out.clear();
+  // Periodic: the segments may reach out of the cell (a wall that translates along it), so every
+  // neighbouring image of the particle is looked up; the exact test takes the image nearest the
+  // segment's middle, as the contact does (DemSystem::wall_hit).
+  const int kx = cell.x ? 1 : 0, ky = cell.y ? 1 : 0;
+  const double lx = cell.x ? cell.length_x() : 0, ly = cell.y ? cell.length_y() : 0;
   for (int i = 0; i < n; ++i) {
     const size_t first = out.size();
     const double reach = r[i] + skin_;
     auto accept = [&](int s) {
-      if (segment_distance({x[i], y[i]}, a[s], b[s]) < reach) out.push_back({i, s});
+      Vec2 p{x[i], y[i]};
+      if (cell.any()) {
+        const Vec2 mid = 0.5 * (a[s] + b[s]);
+        p = mid + cell.minimum_image(p.x - mid.x, p.y - mid.y);
+      }
+      if (segment_distance(p, a[s], b[s]) < reach) out.push_back({i, s});
     };
-    query(segments_, box(x[i] - reach, y[i] - reach, x[i] + reach, y[i] + reach), accept);
+    for (int ix = -kx; ix <= kx; ++ix)
+      for (int iy = -ky; iy <= ky; ++iy) {
+        const double cx = x[i] + ix * lx, cy = y[i] + iy * ly;
+        query(segments_, box(cx - reach, cy - reach, cx + reach, cy + reach), accept);
+      }
     std::sort(out.begin() + first, out.end());
+    if (cell.any()) out.erase(std::unique(out.begin() + first, out.end()), out.end());
   }
 }
 

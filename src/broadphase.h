@@ -37,8 +37,9 @@ class Broadphase {
   void particle_pairs(const double* x, const double* y, const double* r, int n, const PeriodicCell& cell,
                       std::vector<CandidatePair>& out);
   // (particle, segment) pairs with distance(centre, segment) < r + skin, sorted.
+  // In a periodic cell, the particle's images around it count too (walls need not lie in the cell).
   void wall_pairs(const double* x, const double* y, const double* r, int n, const std::vector<Vec2>& a,
-                  const std::vector<Vec2>& b, std::vector<CandidatePair>& out);
+                  const std::vector<Vec2>& b, const PeriodicCell& cell, std::vector<CandidatePair>& out);
 
  private:
   b2AABB box(double x0, double y0, double x1, double y1) const;

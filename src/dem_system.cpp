@@ -173,9 +173,6 @@ void DemSystem::save(Snapshot& s) const {
   s.put("system.trial_angle", trial_angle_);
   s.put("system.work_force", work_force_);
   s.put("system.body_reference", body_ref_);
-  std::vector<double> images;
-  for (Vec2 v : image_ref_) images.insert(images.end(), {v.x, v.y});
-  s.put("system.images", images);
 }
 
 // The Box2D tree is not restored: the candidate pairs are kept as saved, and the next rebuild's
@@ -198,11 +195,6 @@ void DemSystem::restore(const Snapshot& s) {
   trial_angle_ = s.reals("system.trial_angle");
   work_force_ = s.reals("system.work_force");
   body_ref_ = s.reals("system.body_reference");
-  const std::vector<double>& images = s.reals("system.images");
-  image_ref_.clear();
-  for (size_t k = 0; k + 1 < images.size(); k += 2) image_ref_.push_back({images[k], images[k + 1]});
-  if (cell_.any() && static_cast<int>(image_ref_.size()) != n_)
-    throw InputError("the checkpoint's periodic images do not fit this scene's " + std::to_string(n_) + " particles");
   if (static_cast<int>(x_ref_.size()) != n_ || pp_.k.size() != pp_.i.size() || pw_.k.size() != pw_.i.size())
     throw InputError("the checkpoint's contact lists do not fit this scene's " + std::to_string(n_) + " particles");
 }
@@ -309,7 +301,7 @@ void DemSystem::attached_particles(Evaluation& e) {
     if (w < 0) continue;
     WallLoad& load = wall_loads_[w];
     load.force = load.force + f;
-    load.torque += cross(place(e.x, e.y, i) - wall_centre_[w], f) + torque;
+    load.torque += cross(cell_.minimum_image(e.x[i] - wall_centre_[w].x, e.y[i] - wall_centre_[w].y), f) + torque;
     load.power -= f.x * e.vx[i] + f.y * e.vy[i] + (e.torque ? torque * e.w[i] : 0.0);
   }
 }

@@ -209,9 +209,17 @@ class DemSystem final : public OdeSystem {
   double wall_overlap(const double* px, const double* py, const std::vector<Vec2>& a, const std::vector<Vec2>& b,
                       int p) const;
   // The contact of particle i with segment s at current geometry a, b (see disc_segment_contact).
+  // In a periodic cell the particle's image nearest the segment's middle meets it: walls need not
+  // lie in the cell (a wall translating along a periodic axis), and a particle's wrap changes
+  // neither its candidates nor its contact.
   bool wall_hit(const double* px, const double* py, const std::vector<Vec2>& a, const std::vector<Vec2>& b, int i,
                 int s, WallHit& hit, bool apart_too) const {
-    return disc_segment_contact(scene_.segments, a, b, s, place(px, py, i), radius_[i], hit, apart_too);
+    return disc_segment_contact(scene_.segments, a, b, s, image_at(px, py, i, a[s], b[s]), radius_[i], hit, apart_too);
+  }
+  Vec2 image_at(const double* px, const double* py, int i, Vec2 a, Vec2 b) const {
+    if (!cell_.any()) return {px[i], py[i]};
+    const Vec2 mid = 0.5 * (a + b);
+    return mid + cell_.minimum_image(px[i] - mid.x, py[i] - mid.y);
   }
 
   // The contact kernel (contact_kernel.h): one touching contact, particle-particle or
@@ -272,8 +280,6 @@ class DemSystem final : public OdeSystem {
   ContactList pp_, pw_;
   std::vector<double> x_ref_, y_ref_;  // positions at the last rebuild
   std::vector<double> wrapped_x_, wrapped_y_;  // periodic cells: the places the tree saw
-  std::vector<Vec2> image_ref_;                // ... and which image of the cell each was in
-  Vec2 image_of(double x, double y) const { return Vec2{x, y} - cell_.wrap({x, y}); }
   double t_ref_ = 0;
   bool built_ = false;
   long rebuilds_ = 0;

@@ -86,11 +86,6 @@ bool DemSystem::covers(double t, const double* y, double lookahead) const {
                                                             static_cast<int>(w), t_ref_, t + lookahead) + body);
   }
   const double skin = broadphase_.skin();
-  // A particle whose place wrapped across a periodic edge meets other wall segments than its
-  // candidates: new lists.
-  if (cell_.any())
-    for (int i = 0; i < n_; ++i)
-      if (image_of(px[i], py[i]) != image_ref_[i]) return false;
   return 2 * moved < skin && moved + wall_moved < skin;
 }
 
@@ -116,7 +111,7 @@ void DemSystem::rebuild(double t, const double* y, double skin) {
   pp_.replace(candidates_);
   set_coefficients(pp_, false);
   update_walls(t, y);
-  broadphase_.wall_pairs(tx, ty, radius_.data(), n_, seg_a_, seg_b_, candidates_);
+  broadphase_.wall_pairs(tx, ty, radius_.data(), n_, seg_a_, seg_b_, cell_, candidates_);
   pw_.replace(candidates_);
   set_coefficients(pw_, true);
   if (events_) lock_contacts(t, y, nullptr);
@@ -131,10 +126,6 @@ void DemSystem::rebuild(double t, const double* y, double skin) {
   std::copy_n(px, n_, x_ref_.data());
   std::copy_n(py, n_, y_ref_.data());
   std::copy_n(y + body_at(), bodies(), body_ref_.data());
-  if (cell_.any()) {
-    image_ref_.resize(n_);
-    for (int i = 0; i < n_; ++i) image_ref_[i] = image_of(px[i], py[i]);
-  }
   t_ref_ = t;
   built_ = true;
   ++rebuilds_;

@@ -790,12 +790,13 @@ void check_initial_contacts(const SceneNode& root, const Scene& scene, const Par
     a.push_back(s.a);
     b.push_back(s.b);
   }
-  bp.wall_pairs(x.data(), y.data(), scene.radius.data(), scene.n_particles(), a, b, pairs);
+  bp.wall_pairs(x.data(), y.data(), scene.radius.data(), scene.n_particles(), a, b, scene.periodic, pairs);
   for (const CandidatePair& p : pairs) {
     const Segment& s = scene.segments[p.j];
     const std::string wall = "wall '" + scene.walls[s.wall].name + "' (walls." + std::to_string(s.wall) + ")";
     const Location& at = sets.location[sets.of[p.i]];
-    const double distance = distance_to_segment(scene.position[p.i], s.a, s.b);
+    const Vec2 mid = 0.5 * (s.a + s.b), d = scene.position[p.i] - mid;
+    const double distance = distance_to_segment(mid + scene.periodic.minimum_image(d.x, d.y), s.a, s.b);
     if (distance == 0)
       throw InputError(at, sets.describe(p.i) + " has its centre on " + wall +
                                ": the contact normal is undefined, even with allow_overlap; move it off the wall");

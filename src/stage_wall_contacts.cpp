@@ -23,7 +23,7 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     const Vec2 n = hit.normal;
     const int wall = scene_.segments[sgi].wall;
     const WallMotion& motion = scene_.walls[wall].motion;
-    const Vec2 point = place(e.x, e.y, i) + r * n;
+    const Vec2 point = image_at(e.x, e.y, i, seg_a_[sgi], seg_b_[sgi]) + r * n;
     const Vec2 u = wall_velocity_at(motion, point, e.t) + body_velocity(wall, e.state);
     const double wall_spin = motion.kind == WallMotion::Kind::rotate ? motion.omega : 0.0;
     ContactKinematics c;

@@ -151,8 +151,9 @@ t_end: 0.05
 
 namespace {
 
-// Mean contacts per disc among the discs near the cell's edges and among those in its middle.
-std::pair<double, double> edge_and_middle_coordination(const Run& r, double x0, double x1) {
+// Mean contacts per disc among the discs near the cell's edges (a tenth of it on each side), and
+// over the whole pile.
+std::pair<double, double> edge_and_pile_coordination(const Run& r, double x0, double x1) {
   const kiln::DemSystem& sys = *r.system;
   const int n = sys.particles();
   std::vector<int> z(n, 0);
@@ -166,31 +167,31 @@ std::pair<double, double> edge_and_middle_coordination(const Run& r, double x0, 
       ++z[j];
     }
   }
-  double edge = 0, middle = 0;
-  int n_edge = 0, n_middle = 0;
-  const double band = 0.1 * (x1 - x0), mid = 0.5 * (x0 + x1);
+  double edge = 0, all = 0;
+  int n_edge = 0;
+  const double band = 0.1 * (x1 - x0);
   for (int i = 0; i < n; ++i) {
     const double x = sys.cell().wrap({px[i], py[i]}).x;
+    all += z[i];
     if (x < x0 + band || x > x1 - band) {
       edge += z[i];
       ++n_edge;
-    } else if (std::abs(x - mid) < band) {
-      middle += z[i];
-      ++n_middle;
     }
   }
-  return {edge / n_edge, middle / n_middle};
+  return {edge / n_edge, all / n};
 }
 
 }  // namespace
 
-// A hexagonal pile settles under gravity on a floor. Periodic in x, the discs at the cell's edges
-// have the neighbours the middle ones have; the same pile without the period has free edges
-// whose discs miss neighbours and slump (the contrast shows the test can tell).
-TEST_CASE("a periodic pile has no wall effects: the coordination number at its edges is its middle's", "[periodic]") {
+// A hexagonal pile with friction settles under gravity on a floor. Periodic in x, the discs at the
+// cell's edges have the neighbours the middle ones have; the same pile without the period has free
+// edges whose discs miss neighbours and slump (the contrast shows the test can tell). Friction
+// keeps the lattice: without it the exactly packed pile is an unstable equilibrium that round-off
+// rearranges, differently from run to run, and the comparison becomes one of noise.
+TEST_CASE("a periodic pile has no wall effects: the coordination number at its edges is the pile's", "[periodic]") {
   const std::string pile = R"(name: periodic_pile
 materials:
-  glass: {density: 2500, stiffness: 2.0e4, restitution: 0.3}
+  glass: {density: 2500, stiffness: 2.0e4, restitution: 0.3, friction: 0.5}
 particles:
   - material: glass
     radius: 0.001
@@ -208,10 +209,38 @@ t_end: 0.05
     periodic.step();
     open.step();
   }
-  const auto [edge, middle] = edge_and_middle_coordination(periodic, 0, 0.04);
-  const auto [open_edge, open_middle] = edge_and_middle_coordination(open, 0, 0.04);
-  INFO("periodic: edge " << edge << ", middle " << middle << "; open: edge " << open_edge << ", middle " << open_middle);
-  CHECK(middle > 3.5);
-  CHECK(std::abs(edge - middle) < 0.05 * middle);
-  CHECK(open_edge < middle - 0.3);
+  const auto [edge, all] = edge_and_pile_coordination(periodic, 0, 0.04);
+  const auto [open_edge, open_all] = edge_and_pile_coordination(open, 0, 0.04);
+  INFO("periodic: edge " << edge << ", pile " << all << "; open: edge " << open_edge << ", pile " << open_all);
+  CHECK(all > 4);
+  // Columns of the settled lattice differ by up to half a contact from one another (contacts at
+  // the threshold of touching); the edge bands, 32 discs, within a tenth of the pile's mean.
+  CHECK(std::abs(edge - all) < 0.1 * all);
+  CHECK(open_edge < 0.5 * open_all);
+}
+
+// A particle's wrap is a view: the state stays continuous, so every integrator, fixed-step or
+// adaptive, carries a disc across the edge without a rejected step (a first version rebuilt the
+// neighbour lists at every wrap, which ARKODE took for a step too long, and failed).
+TEST_CASE("every integrator carries discs across a periodic edge", "[periodic]") {
+  const std::string crossing = R"(name: crossing
+gravity: [0, 0]
+materials:
+  glass: {density: 2500, stiffness: 1.0e4, restitution: 0.9}
+particles:
+  - {material: glass, radius: 0.001, velocity: [1.0, -0.3], at: [[0.015, 0.005]]}
+periodic: {x: [0, 0.02], y: [0, 0.02]}
+dt: 1.0e-5
+t_end: 0.05
+)";
+  for (const std::vector<std::string>& sets : std::vector<std::vector<std::string>>{
+           {"integrator=erk4"}, {"integrator=erk4", "rtol=1e-6"}, {"integrator=velocity-verlet"}}) {
+    Run r(crossing, sets);
+    r.integrator->set_stop_time(r.scene.t_end);
+    while (r.t() < r.scene.t_end - 1e-12) r.step();
+    INFO(sets.back());
+    CHECK(r.x(0) == Approx(0.015 + 0.05).epsilon(1e-9));  // two and a half periods, free flight
+    CHECK(r.yy(0) == Approx(0.005 - 0.015).epsilon(1e-9));
+    if (sets.size() == 1) CHECK(r.integrator->stats().steps == 5000);
+  }
 }
