@@ -218,18 +218,20 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
   particle_contact_forces(e);
   wall_contact_forces(e);
   if (e.heat && part == Part::all) e.heat_walls = conduct(t, y, y + temperature_at(), e.heat, true);
-  if (has_attached_) attached_particles(e);
-  if (bodies()) wall_bodies(e, ydot);
+  if (has_attached_ || bodies()) {
+    const StageTimer timer(profile_, Stage::wall_contacts);  // what the walls' particles and bodies do
+    if (has_attached_) attached_particles(e);
+    if (bodies()) wall_bodies(e, ydot);
+  }
   accelerations(e);
   close_ledger(e, ydot);
 }
 
-// dq/dt = v; forces, torques, heat and work forces zeroed; walls where they are at t.
+// dq/dt = v; forces, torques, heat and work forces zeroed.
 DemSystem::Evaluation DemSystem::begin_evaluation(double t, const double* y, double* ydot) {
   const int nq = layout_.nq;
   std::copy_n(y + nq, nq, ydot);
   std::fill_n(ydot + nq, nq, 0.0);
-  if (moving_walls_) update_walls(t, y);
   Evaluation e;
   e.t = t;
   e.state = y;

@@ -229,7 +229,9 @@ int run(const SceneArgs& a, const RunArgs& r) {
   } else {
     if (a.path.empty()) throw kiln::InputError("kiln run: give a scene file (or --restart CHECKPOINT)");
     scene = load(a);
-    options.source = {a.path, read_text(a.path), overrides_of(a)};
+    // Recorded with its absolute path: a restart from another directory finds the files the
+    // scene names relative to itself (drawings).
+    options.source = {std::filesystem::absolute(a.path).string(), read_text(a.path), overrides_of(a)};
     if (out.empty()) out = "out/" + scene.name;
   }
   const kiln::DtVerdict verdict = kiln::judge_dt(kiln::estimate_stability(scene), scene.dt, scene);

@@ -135,6 +135,9 @@ struct Scene {
   std::vector<Wall> walls;
   std::vector<Segment> segments;
   PeriodicCell periodic;  // no periodic axis unless given
+  // The files the scene read besides itself (SVG drawings), each as "path<TAB>FNV-1a hash of its
+  // bytes": a checkpoint records them, and a restart refuses drawings changed since.
+  std::vector<std::string> inputs;
 
   // Integration and output.
   std::string integrator = "velocity-verlet";

@@ -445,6 +445,10 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
     scene.thermal = static_cast<bool>(temp);
     sets.first.push_back(scene.n_particles());
     if (ps.has("attach") && ps.has("fixed")) ps.fail("give one of 'attach' (a wall's name) or 'fixed', not both");
+    // An attached or fixed particle moves with its wall: a velocity of its own would not be read.
+    if (ps.has("attach") || (ps.has("fixed") && ps["fixed"].boolean()))
+      for (const char* key : {"velocity", "angular_velocity", "random_velocity"})
+        if (ps.has(key)) ps[key].fail("attached and fixed particles move with their wall: remove it");
     const int count = static_cast<int>(placed.radius.size());
     if (auto a = ps.optional("attach")) attachments.push_back({*a, false, scene.n_particles(), count});
     if (auto f = ps.optional("fixed"); f && f->boolean()) attachments.push_back({*f, true, scene.n_particles(), count});
@@ -477,7 +481,7 @@ WallMotion read_motion(const SceneNode& m) {
     motion.velocity = m.has("velocity") ? m["velocity"].vec2() : Vec2{};
     motion.load = m["load"].vec2();
     motion.mass = m["mass"].positive();
-    motion.damping = m.has("damping") ? m["damping"].non_negative() : 0.0;
+    motion.damping = m["damping"].non_negative();  // stated, as the load and mass are (0 allowed)
     if (norm(motion.load) == 0) m["load"].fail("a load-controlled wall needs a non-zero load (N)");
     // The body is driven along the velocity and free along the load: the two must not share a direction.
     if (std::abs(dot(motion.velocity, motion.load)) > 1e-12 * norm(motion.velocity) * norm(motion.load))
@@ -574,8 +578,18 @@ struct DrawnWall {
   std::string name;
   std::vector<SvgPolyline> lines;
 };
+// 64-bit FNV-1a of a file's bytes ("" when it cannot be read: the SVG reader reports that).
+std::string file_hash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  uint64_t h = 14695981039346656037ull;
+  for (char c; in.get(c);) h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
+  std::ostringstream s;
+  s << std::hex << h;
+  return s.str();
+}
+
 std::vector<DrawnWall> read_svg_entry(const SceneNode& node, const std::string& scene_file, const std::string& name,
-                                      double tolerance) {
+                                      double tolerance, std::vector<std::string>& inputs) {
   node.allow();
   std::string file = node["file"].text();
   if (!file.empty() && file.front() != '/') {
@@ -592,6 +606,7 @@ std::vector<DrawnWall> read_svg_entry(const SceneNode& node, const std::string& 
   } catch (const InputError& e) {
     node["file"].fail(e.what());
   }
+  inputs.push_back(node["file"].text() + "\t" + file_hash(file));  // as the scene names it
   // Lines outside any named group or layer form the group "drawing".
   auto id_of = [](const SvgGroup& group) { return group.id.empty() ? std::string("drawing") : group.id; };
   std::vector<DrawnWall> walls;
@@ -635,7 +650,7 @@ void read_walls(const SceneNode& root, Scene& scene, const MaterialIndex& index,
     const std::string name = w.has("name") ? w["name"].text() : "";
     std::vector<DrawnWall> drawn;
     if (auto svg = w.optional("svg")) {
-      drawn = read_svg_entry(*svg, scene.file, name, tolerance);
+      drawn = read_svg_entry(*svg, scene.file, name, tolerance, scene.inputs);
     } else {
       drawn.push_back({name.empty() ? "wall" + std::to_string(scene.walls.size()) : name, {}});
     }
@@ -648,7 +663,11 @@ void read_walls(const SceneNode& root, Scene& scene, const MaterialIndex& index,
       const int id = static_cast<int>(scene.walls.size());
       const size_t before = scene.segments.size();
       if (w.has("svg")) {
-        for (const SvgPolyline& line : d.lines) add_polyline(scene.segments, line.points, line.closed, id);
+        for (const SvgPolyline& line : d.lines) {
+          for (Vec2 p : line.points)
+            if (!within_reach(p)) w["svg"].fail(std::string("the drawing, scaled and placed, has ") + out_of_reach);
+          add_polyline(scene.segments, line.points, line.closed, id);
+        }
       } else {
         read_wall_shape(w, id, tolerance, scene.segments);
       }
@@ -706,6 +725,7 @@ void read_periodic(const SceneNode& root, Scene& scene, const ParticleSets& sets
     if (v.size() != 2) range->fail("expected [low, high]");
     lo = point_of(v[0], v[1]).x;
     hi = point_of(v[1], v[0]).x;
+    if (!(hi > lo)) range->fail("expected [low, high] with high > low");
     if (!(hi - lo >= 8 * largest))
       range->fail("the period is shorter than four of the largest particle diameters (8 x " + shortest(largest) +
                   " m): a particle would meet a neighbour through two images");
@@ -770,7 +790,9 @@ void check_initial_contacts(const SceneNode& root, const Scene& scene, const Par
   Broadphase bp(1e-3 * rmin);
   std::vector<CandidatePair> pairs;
   bp.particle_pairs(x.data(), y.data(), scene.radius.data(), scene.n_particles(), scene.periodic, pairs);
+  auto part_of_a_wall = [&](int i) { return !scene.attached.empty() && scene.attached[i] != Scene::free_particle; };
   for (const CandidatePair& p : pairs) {
+    if (part_of_a_wall(p.i) && part_of_a_wall(p.j)) continue;  // walls do not touch walls
     const Location& at = sets.location[sets.of[p.j]];
     const Vec2 d = scene.position[p.j] - scene.position[p.i];
     const double distance = norm(scene.periodic.minimum_image(d.x, d.y));

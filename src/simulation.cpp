@@ -150,7 +150,7 @@ class SceneRun {
   Ended run_stage(Integrator& stepper, bool moving);
   Ended at_frame(bool moving, bool at_end);
   void count_contacts();
-  void sum_wall_loads();
+  void integrate_wall_loads(double h);
   void save_checkpoint();
   void close_stage(Integrator& stepper, nlohmann::json& stats);
   nlohmann::json summary(Ended ended);
@@ -210,9 +210,9 @@ class SceneRun {
   std::vector<double> history_time_, history_error_;
   double contacts_sum_ = 0;
   long contact_samples_ = 0;
-  // Each wall's force (x, y), torque and power summed over the frames: summary.json's means.
+  // Each wall's force (x, y), torque and power integrated over the steps: summary.json's time means.
   std::vector<double> wall_sums_;
-  long wall_samples_ = 0;
+  double wall_time_ = 0;
   double frozen_at_ = NAN;
   nlohmann::json frozen_network_, integrator_stats_ = nlohmann::json::object();
 };
@@ -325,16 +325,17 @@ void SceneRun::enter_heat_stage(bool freezing, const Snapshot* s) {
     heat_stepper_->start(*network_, t_, y_.data() + system_.ledger_at(), stage_dt_);
 }
 
-void SceneRun::sum_wall_loads() {
+// The loads of each step's last evaluation, times the step (a rectangle rule over the steps).
+void SceneRun::integrate_wall_loads(double h) {
   const auto& loads = system_.wall_loads();
   wall_sums_.resize(4 * loads.size());
   for (size_t w = 0; w < loads.size(); ++w) {
-    wall_sums_[4 * w] += loads[w].force.x;
-    wall_sums_[4 * w + 1] += loads[w].force.y;
-    wall_sums_[4 * w + 2] += loads[w].torque;
-    wall_sums_[4 * w + 3] += loads[w].power;
+    wall_sums_[4 * w] += h * loads[w].force.x;
+    wall_sums_[4 * w + 1] += h * loads[w].force.y;
+    wall_sums_[4 * w + 2] += h * loads[w].torque;
+    wall_sums_[4 * w + 3] += h * loads[w].power;
   }
-  ++wall_samples_;
+  wall_time_ += h;
 }
 
 void SceneRun::count_contacts() {
@@ -360,7 +361,6 @@ SceneRun::Ended SceneRun::at_frame(bool moving, bool at_end) {
     if (files_) files_->frame(t_, y_.data());
   }
   count_contacts();
-  sum_wall_loads();
   progress_.update(t_, scene_.t_end);
   if (moving && !at_end && scene_.stop_kinetic_energy > 0 && t_ >= scene_.stop_not_before &&
       now.kinetic < scene_.stop_kinetic_energy)
@@ -396,6 +396,7 @@ SceneRun::Ended SceneRun::run_stage(Integrator& stepper, bool moving) {
       if (moving) guard_->every_step(t_, y_.data(), h);
       guard_->temperatures(t_, y_.data());
     }
+    if (moving) integrate_wall_loads(h);
     {
       const StageTimer timer(profile_, Stage::observers);
       for (auto& o : observers_) o->sample(t_, y_.data());
@@ -455,6 +456,9 @@ void SceneRun::save_checkpoint() {
   std::string overrides;
   for (const std::string& o : options_.source.overrides) overrides += o + '\n';
   s.put_text("scene.overrides", overrides);
+  std::string inputs;
+  for (const std::string& i : scene_.inputs) inputs += i + '\n';
+  s.put_text("scene.inputs", inputs);
   s.put("scene.output_interval", scene_.output_interval);
   s.put("time", t_);
   s.put("state", y_);
@@ -467,7 +471,7 @@ void SceneRun::save_checkpoint() {
   s.put("history.balance_error", history_error_);
   s.put("contacts", {contacts_sum_, static_cast<double>(contact_samples_)});
   s.put("walls.sums", wall_sums_);
-  s.put_integer("walls.samples", wall_samples_);
+  s.put("walls.time", wall_time_);
   s.put("frozen_at", frozen_at_);
   s.put_integers("totals", std::vector<long>{total_steps_, total_rhs_});
   all_steps_.save(s, "all_steps");
@@ -509,7 +513,7 @@ void SceneRun::resume(const Snapshot& s) {
   contacts_sum_ = contacts.at(0);
   contact_samples_ = static_cast<long>(contacts.at(1));
   wall_sums_ = s.reals("walls.sums");
-  wall_samples_ = static_cast<long>(s.integer("walls.samples"));
+  wall_time_ = s.real("walls.time");
   frozen_at_ = s.real("frozen_at");
   const std::vector<long long>& totals = s.integers("totals");
   total_steps_ = totals.at(0);
@@ -570,12 +574,12 @@ nlohmann::json SceneRun::summary(Ended ended) {
   summary["rotation"] = system_.rotates();
   summary["thermal"] = system_.thermal();
   summary["mean_contacts"] = contacts_sum_ / contact_samples_;
-  // What the particles did to each wall, averaged over the frames (result.h5 has every frame):
-  // force on the wall (N), torque about its centre (N m), power it delivered (W).
+  // What the particles did to each wall, averaged over the time the mechanics ran (result.h5 has
+  // every frame): force on the wall (N), torque about its centre (N m), power it delivered (W).
   summary["walls"] = nlohmann::json::array();
-  for (size_t w = 0; w < scene_.walls.size() && wall_samples_ > 0; ++w) {
+  for (size_t w = 0; w < scene_.walls.size() && wall_time_ > 0; ++w) {
     const double* sum = wall_sums_.data() + 4 * w;
-    const double n = static_cast<double>(wall_samples_);
+    const double n = wall_time_;
     summary["walls"].push_back({{"name", scene_.walls[w].name},
                                 {"mean_force", {sum[0] / n, sum[1] / n}},
                                 {"mean_torque", sum[2] / n},
@@ -626,7 +630,16 @@ Scene scene_of_checkpoint(const Snapshot& checkpoint, const std::vector<std::str
   // The frame interval stays the run's (its default follows t_end, which a resumed run changes).
   source.overrides.push_back(assignment("output_interval", checkpoint.real("scene.output_interval")));
   for (const std::string& o : overrides) source.overrides.push_back(o);
-  return parse_scene(source.text, source.file, source.overrides);
+  Scene scene = parse_scene(source.text, source.file, source.overrides);
+  std::string inputs;
+  for (const std::string& i : scene.inputs) inputs += i + '\n';
+  if (inputs != checkpoint.text("scene.inputs")) {
+    std::string names;
+    for (const std::string& i : scene.inputs) names += (names.empty() ? "" : ", ") + i.substr(0, i.find('\t'));
+    throw InputError("a drawing the scene reads (" + names + ") has changed since the checkpoint was written: "
+                     "its walls would jump; rerun the scene from the start");
+  }
+  return scene;
 }
 
 }  // namespace kiln

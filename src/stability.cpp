@@ -152,9 +152,20 @@ StabilityEstimate estimate_stability(const Scene& scene) {
       consider(a, b, mass_a * mass_b / (mass_a + mass_b), rmin[a] * rmin[b] / (rmin[a] + rmin[b]), speeds.pair,
                ma.name + "-" + scene.materials[b].name);
     }
-    // A wall is of infinite mass, except a load-controlled wall body: its own mass enters the pair.
-    for (const Wall& w : scene.walls) {
-      const double m_wall = w.motion.kind == WallMotion::Kind::load_controlled ? w.motion.mass : INFINITY;
+    // A wall is of infinite mass, except a load-controlled wall body. It bears on as many contacts
+    // as discs fit along it (and two for each disc attached to it), springs in parallel: its
+    // fastest mode is that of its mass shared among them.
+    for (size_t wi = 0; wi < scene.walls.size(); ++wi) {
+      const Wall& w = scene.walls[wi];
+      double m_wall = INFINITY;
+      if (w.motion.kind == WallMotion::Kind::load_controlled) {
+        double length = 0;
+        for (const Segment& seg : scene.segments)
+          if (seg.wall == static_cast<int>(wi)) length += norm(seg.b - seg.a);
+        double contacts = std::max(1.0, std::floor(length / (2 * rmin[a])));
+        for (int at : scene.attached) contacts += at == static_cast<int>(wi) ? 2 : 0;
+        m_wall = w.motion.mass / contacts;
+      }
       const double m_eff = std::isfinite(m_wall) ? mass_a * m_wall / (mass_a + m_wall) : mass_a;
       consider(a, w.material, m_eff, rmin[a], speeds.wall, ma.name + "-wall(" + w.name + ")");
     }

@@ -1,4 +1,5 @@
-// The wall contacts stage: every (particle, segment) candidate that touches gets its forces from
+// The wall contacts stage: the walls moved to where they are at t; every (particle, segment)
+// candidate that touches gets its forces from
 // the kernel. The contact point is at the disc's lever arm, its full radius: the wall's velocity
 // there enters the relative velocity, and the work the wall does on the particle is F . u_wall
 // plus the rolling couple times the wall's spin. What the particles do to each wall (force,
@@ -9,6 +10,7 @@ namespace kiln {
 
 void DemSystem::wall_contact_forces(Evaluation& e) {
   const StageTimer timer(profile_, Stage::wall_contacts);
+  if (moving_walls_) update_walls(e.t, e.state);
   const bool history = pp_.history;
   for (WallLoad& load : wall_loads_) load = {};
   for (int p = 0, np = pw_.size(); p < np; ++p) {

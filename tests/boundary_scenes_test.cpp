@@ -642,25 +642,26 @@ TEST_CASE("a load_controlled motion parses into the wall's motion", "[boundary-i
   CHECK(m.mass == 0.2);
   CHECK(m.damping == 1);
   CHECK(scene.walls[0].motion.kind == WallMotion::Kind::fixed);
-  // velocity and damping may be left out.
-  const Scene bare = parse_scene(lid_scene("", "{type: load_controlled, load: [0, -50], mass: 0.2}"), "lid.yaml");
+  // The velocity may be left out (a wall under load alone); the damping is stated, 0 allowed.
+  const Scene bare = parse_scene(lid_scene("", "{type: load_controlled, load: [0, -50], mass: 0.2, damping: 0}"), "lid.yaml");
   CHECK(bare.walls[1].motion.kind == WallMotion::Kind::load_controlled);
   CHECK(bare.walls[1].motion.velocity.x == 0);
   CHECK(bare.walls[1].motion.velocity.y == 0);
   CHECK(bare.walls[1].motion.damping == 0);
+  CHECK(has(error_of(lid_scene("", "{type: load_controlled, load: [0, -50], mass: 0.2}")), "'damping'"));
 }
 
 TEST_CASE("a load_controlled velocity not perpendicular to the load is refused at the velocity", "[boundary-input]") {
-  const std::string text = lid_scene("", "{type: load_controlled, velocity: [0.1, 0.01], load: [0, -50], mass: 0.2}");
+  const std::string text = lid_scene("", "{type: load_controlled, velocity: [0.1, 0.01], load: [0, -50], mass: 0.2, damping: 1}");
   const std::string msg = error_of(text);
   CHECK(has(msg, at(line_of(text, "load_controlled"), "walls.1.motion.velocity")));
   CHECK(has(msg, "perpendicular"));
   // A load along x with the velocity along y is fine.
-  CHECK(error_of(lid_scene("", "{type: load_controlled, velocity: [0, 0.1], load: [20, 0], mass: 0.2}")).empty());
+  CHECK(error_of(lid_scene("", "{type: load_controlled, velocity: [0, 0.1], load: [20, 0], mass: 0.2, damping: 1}")).empty());
 }
 
 TEST_CASE("a zero load or a missing mass of a load_controlled wall is refused at its key", "[boundary-input]") {
-  const std::string zero = lid_scene("", "{type: load_controlled, velocity: [0.1, 0], load: [0, 0], mass: 0.2}");
+  const std::string zero = lid_scene("", "{type: load_controlled, velocity: [0.1, 0], load: [0, 0], mass: 0.2, damping: 1}");
   const std::string z = error_of(zero);
   CHECK(has(z, at(line_of(zero, "load_controlled"), "walls.1.motion.load")));
   CHECK(has(z, "non-zero load"));
@@ -668,10 +669,10 @@ TEST_CASE("a zero load or a missing mass of a load_controlled wall is refused at
   const std::string m = error_of(massless);
   CHECK(has(m, at(line_of(massless, "load_controlled"), "walls.1.motion")));
   CHECK(has(m, "'mass'"));
-  CHECK(has(error_of(lid_scene("", "{type: load_controlled, load: [0, -50], mass: -0.2}")), "walls.1.motion.mass"));
+  CHECK(has(error_of(lid_scene("", "{type: load_controlled, load: [0, -50], mass: -0.2, damping: 1}")), "walls.1.motion.mass"));
   CHECK(has(error_of(lid_scene("", "{type: load_controlled, load: [0, -50], mass: 0.2, damping: -1}")),
             "walls.1.motion.damping"));
-  CHECK(has(error_of(lid_scene("", "{type: load_controlled, velocity: [0.1, 0], mass: 0.2}")), "'load'"));
+  CHECK(has(error_of(lid_scene("", "{type: load_controlled, velocity: [0.1, 0], mass: 0.2, damping: 1}")), "'load'"));
 }
 
 TEST_CASE("unknown keys of a load_controlled motion are refused, listing its keys", "[boundary-input]") {

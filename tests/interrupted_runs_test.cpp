@@ -469,3 +469,36 @@ TEST_CASE("a second run into a directory in use is refused; a killed resumed run
   fs::remove_all(dir);
   fs::remove_all(whole);
 }
+
+// The scene's text is in the checkpoint, its drawings are not: a drawing changed since is refused,
+// where it used to move the walls silently.
+TEST_CASE("a restart refuses a scene whose SVG drawing changed since the checkpoint", "[checkpoint][svg]") {
+  const fs::path dir = testing::fresh_dir("svg_restart");
+  fs::create_directories(dir);
+  const std::string svg = R"svg(<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 100 100"><g id="box"><rect x="10" y="10" width="80" height="80" transform="rotate(0 50 50)"/></g></svg>)svg";
+  std::ofstream(dir / "box.svg") << svg;
+  const std::string file = (dir / "box.yaml").string();
+  std::ofstream(file) << R"(name: svg_box
+materials:
+  glass: {density: 2500, stiffness: 1.0e4, restitution: 0.5}
+particles:
+  - {material: glass, radius: 0.002, at: [[0.05, 0.05]]}
+walls:
+  - {material: glass, svg: {file: box.svg, scale: 0.001}}
+dt: 1.0e-5
+t_end: 0.02
+)";
+  const fs::path out = testing::fresh_dir("svg_restart_out");
+  run_whole({assignment("t_end", 0.01)}, out, file);
+  std::ofstream(dir / "box.svg") << testing::replaced(svg, "rotate(0 50 50)", "rotate(5 50 50)");
+  std::string message;
+  try {
+    resume(out, 0.02);
+  } catch (const InputError& e) {
+    message = e.what();
+  }
+  CHECK(message.find("box.svg") != std::string::npos);
+  CHECK(message.find("changed since the checkpoint") != std::string::npos);
+  fs::remove_all(dir);
+  fs::remove_all(out);
+}
