@@ -10,6 +10,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -952,7 +953,15 @@ class Reader {
   std::map<std::string, size_t> index_;
 };
 
+// A drawing is a regular file of at most 64 MiB: a device (/dev/zero) or a pipe would never end.
 std::string read_file(const std::string& path) {
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (!ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status))
+    throw InputError(Location{path, 0, ""}, "is not a regular file");
+  constexpr std::uintmax_t largest = std::uintmax_t{64} << 20;
+  if (!ec && std::filesystem::is_regular_file(status) && std::filesystem::file_size(path, ec) > largest)
+    throw InputError(Location{path, 0, ""}, "is larger than 64 MiB: not a drawing of walls");
   std::ifstream in(path, std::ios::binary);
   try {
     if (in) return std::string(std::istreambuf_iterator<char>(in), {});

@@ -439,3 +439,16 @@ TEST_CASE("an unreadable file, a bad placement and a tolerance too fine for the 
   CHECK(contains(budget, "more than 1,000,000 points"));
   CHECK(contains(budget, "use a larger tolerance"));
 }
+
+TEST_CASE("a device or a directory given as the drawing is refused instead of read without end", "[svg]") {
+  for (const char* path : {"/dev/zero", "/tmp"}) {
+    std::string message;
+    try {
+      kiln::read_svg_walls(path, {1.0, {0, 0}, 1e-3});
+    } catch (const kiln::InputError& e) {
+      message = e.what();
+    }
+    INFO(path);
+    CHECK(message.find(path) != std::string::npos);
+  }
+}
