@@ -87,19 +87,11 @@ double largest_sagitta(const Scene& scene, int w, Vec2 c, double r) {
 // ---- Scenes ---------------------------------------------------------------------------------
 
 // A thermal version of the two discs (for the conduction keys of a contact entry).
-const std::string thermal_discs = R"(name: warm
-materials:
-  copper: {density: 8900, stiffness: 6000, restitution: 0.8, specific_heat: 385, conductivity: 400, youngs_modulus: 1.2e11}
-particles:
-  - material: copper
-    radius: 0.002
-    temperature: 20
-    at: [[0.0, 0.01], [0.01, 0.01]]
-walls:
-  - {name: floor, material: copper, segment: [[-0.1, 0], [0.1, 0]]}
-dt: 1.0e-6
-t_end: 0.01
-)";
+std::string thermal_discs() {
+  return replaced(
+    replaced(good, "restitution: 0.8}", "restitution: 0.8, specific_heat: 385, conductivity: 400, youngs_modulus: 1.2e11}"),
+    "    radius: 0.002\n", "    radius: 0.002\n    temperature: 20\n");
+}
 
 // The two discs with a Young's modulus (a Hertz contact can be valid).
 std::string hertz_discs() { return replaced(good, "restitution: 0.8}", "restitution: 0.8, youngs_modulus: 1.2e11}"); }
@@ -111,25 +103,10 @@ std::string with_contact(const std::string& scene, const std::string& entry_line
 
 // Two free discs on a floor, two more under a lid that moves down; `set` is added to the second set.
 std::string lid_scene(const std::string& set, const std::string& lid_motion = "{type: translate, velocity: [0, -0.01]}") {
-  return R"(name: lid
-materials:
-  copper: {density: 8900, stiffness: 6000, restitution: 0.8}
-particles:
-  - material: copper
-    radius: 0.002
-    at: [[0.0, 0.01], [0.01, 0.01]]
-  - material: copper
-    radius: 0.002
-    at: [[0.0, 0.03], [0.01, 0.03]]
-)" + set + R"(walls:
-  - {name: floor, material: copper, segment: [[-0.1, 0], [0.1, 0]]}
-  - name: top
-    material: copper
-    segment: [[-0.1, 0.035], [0.1, 0.035]]
-    motion: )" + lid_motion + R"(
-dt: 1.0e-6
-t_end: 0.01
-)";
+  const std::string second_set = "  - material: copper\n    radius: 0.002\n    at: [[0.0, 0.03], [0.01, 0.03]]\n" + set;
+  const std::string lid = "  - name: top\n    material: copper\n    segment: [[-0.1, 0.035], [0.1, 0.035]]\n    motion: " +
+                          lid_motion + "\n";
+  return replaced(replaced(good, "walls:\n", second_set + "walls:\n"), "dt: ", lid + "dt: ");
 }
 
 // The drum of tests/data/boundaries/drum_flights.yaml with its wall entry replaced by `entry`.
@@ -179,15 +156,15 @@ TEST_CASE("closed on a box given through --set is refused as --set", "[boundary-
 
 TEST_CASE("conductance on a lens contact of a thermal scene is refused naming line, key and conduction: constant",
           "[boundary-input]") {
-  REQUIRE(error_of(thermal_discs).empty());
-  const std::string text = with_contact(thermal_discs, "    conductance: 0.5\n");
+  REQUIRE(error_of(thermal_discs()).empty());
+  const std::string text = with_contact(thermal_discs(), "    conductance: 0.5\n");
   const std::string msg = error_of(text);
   CHECK(has(msg, at(line_of(text, "conductance:"), "contacts.0.conductance")));
   CHECK(has(msg, "conduction: constant"));
   // With conduction: constant the same key is the law's parameter.
-  CHECK(error_of(with_contact(thermal_discs, "    conduction: constant\n    conductance: 0.5\n")).empty());
+  CHECK(error_of(with_contact(thermal_discs(), "    conduction: constant\n    conductance: 0.5\n")).empty());
   // Through --set it is blamed on the command line.
-  const std::string set = error_of(with_contact(thermal_discs, "    friction: 0.3\n"), {"contacts.0.conductance=0.5"});
+  const std::string set = error_of(with_contact(thermal_discs(), "    friction: 0.3\n"), {"contacts.0.conductance=0.5"});
   CHECK(has(set, "--set: key 'contacts.0.conductance'"));
 }
 
@@ -224,21 +201,21 @@ TEST_CASE("stiffness with a Hertz contact is refused at its line, from the entry
 }
 
 TEST_CASE("softened_modulus_ratio with lens conduction is refused at its line and key", "[boundary-input]") {
-  const std::string text = with_contact(thermal_discs, "    softened_modulus_ratio: 0.01\n");
+  const std::string text = with_contact(thermal_discs(), "    softened_modulus_ratio: 0.01\n");
   const std::string msg = error_of(text);
   CHECK(has(msg, at(line_of(text, "softened_modulus_ratio:"), "contacts.0.softened_modulus_ratio")));
   CHECK(has(msg, "conduction: batchelor_obrien"));
-  CHECK(error_of(with_contact(thermal_discs, "    conduction: batchelor_obrien\n    softened_modulus_ratio: 0.01\n"))
+  CHECK(error_of(with_contact(thermal_discs(), "    conduction: batchelor_obrien\n    softened_modulus_ratio: 0.01\n"))
             .empty());
 }
 
 TEST_CASE("contact_resistance without pipe_network conduction is refused at its line and key", "[boundary-input]") {
-  const std::string text = with_contact(thermal_discs, "    conduction: hertz\n    contact_resistance: 0.1\n");
+  const std::string text = with_contact(thermal_discs(), "    conduction: hertz\n    contact_resistance: 0.1\n");
   const std::string msg = error_of(text);
   CHECK(has(msg, at(line_of(text, "contact_resistance:"), "contacts.0.contact_resistance")));
   CHECK(has(msg, "conduction: pipe_network"));
   const std::string cylinders =
-      replaced(thermal_discs, "particles:", "mass_model: cylinder\nthickness: 0.001\nparticles:");
+      replaced(thermal_discs(), "particles:", "mass_model: cylinder\nthickness: 0.001\nparticles:");
   CHECK(error_of(with_contact(cylinders, "    conduction: pipe_network\n    contact_resistance: 0.1\n")).empty());
 }
 
