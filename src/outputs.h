@@ -32,13 +32,18 @@ std::string xdmf_document(const std::string& h5_name, const ResultLayout& layout
 
 // A picture of one state: discs coloured by `value` (speed or temperature) with a colour bar,
 // walls as lines. Written as PNG by cairo to `path` (checked: OutputError; give a temporary name).
+// The colour scale is robust (colour_scale.h): a few outliers are clipped, a constant field is one
+// colour with one label. Particles of walls (attached or fixed) are drawn grey, outside the scale.
+// A scale bar of a round length sits in the lower left corner.
 struct PictureInput {
   std::vector<Vec2> centre;
   std::vector<double> radius;
   std::vector<double> value;
-  std::string value_label;
+  std::vector<char> of_wall;  // per particle, or empty: none
+  std::string value_label;    // with its unit
   std::vector<Vec2> wall_a, wall_b;
-  std::string title;
+  std::string title;          // first line: the scene and time; second: how the run ended
+  std::string subtitle;
 };
 void write_picture(const std::string& path, const PictureInput& in);
 

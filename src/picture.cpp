@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "src/colour_scale.h"
 #include "src/error.h"
 #include "src/outputs.h"
 
@@ -49,11 +50,11 @@ PictureView picture_view(const PictureInput& in) {
   PictureView v;
   v.plot_width = 900;
   v.bar_width = 120;
-  v.title_height = 36;
+  v.title_height = 44;
   v.x0 = x0;
   v.y1 = y1;
   v.scale = v.plot_width / (x1 - x0);
-  v.plot_height = std::clamp(static_cast<int>((y1 - y0) * v.scale), 100, 2400);
+  v.plot_height = std::clamp(static_cast<int>((y1 - y0) * v.scale), 160, 2400);
   return v;
 }
 
@@ -66,21 +67,16 @@ void write_picture(const std::string& path, const PictureInput& in) {
   cairo_set_source_rgb(cr, 1, 1, 1);
   cairo_paint(cr);
 
-  double vmin = INFINITY, vmax = -INFINITY;
-  for (double v : in.value)
-    if (std::isfinite(v)) {
-      vmin = std::min(vmin, v);
-      vmax = std::max(vmax, v);
-    }
-  if (!(vmax > vmin)) {
-    vmin = std::isfinite(vmin) ? vmin : 0;
-    vmax = vmin + 1;
-  }
+  std::vector<double> scaled;
+  for (size_t i = 0; i < in.value.size(); ++i)
+    if (in.of_wall.empty() || !in.of_wall[i]) scaled.push_back(in.value[i]);
+  const ColourScale range = colour_scale(scaled);
   auto sx = [&](double x) { return view.pixel({x, 0}).x; };
   auto sy = [&](double y) { return view.pixel({0, y}).y; };
 
   for (size_t i = 0; i < in.centre.size(); ++i) {
-    const auto c = viridis((in.value[i] - vmin) / (vmax - vmin));
+    const bool of_wall = !in.of_wall.empty() && in.of_wall[i];
+    const auto c = of_wall ? std::array<double, 3>{0.6, 0.6, 0.6} : viridis(range.position(in.value[i]));
     cairo_set_source_rgb(cr, c[0], c[1], c[2]);
     cairo_arc(cr, sx(in.centre[i].x), sy(in.centre[i].y), std::max(0.5, in.radius[i] * scale), 0, 2 * M_PI);
     cairo_fill(cr);
@@ -93,10 +89,11 @@ void write_picture(const std::string& path, const PictureInput& in) {
   }
   cairo_stroke(cr);
 
-  // Colour bar with its range and label.
-  const double bx = plot_w + 20, by = title_h + 20, bh = std::max(60, plot_h - 60);
+  // Colour bar with its range and label: one swatch and one value for a constant field, and
+  // ">=" / "<=" on an end that clips values beyond it.
+  const double bx = plot_w + 20, by = title_h + 20, bh = range.constant ? 20 : std::max(40, plot_h - 110);
   for (int k = 0; k < static_cast<int>(bh); ++k) {
-    const auto c = viridis(1 - k / bh);
+    const auto c = viridis(range.constant ? 0.5 : 1 - k / bh);
     cairo_set_source_rgb(cr, c[0], c[1], c[2]);
     cairo_rectangle(cr, bx, by + k, 20, 1);
     cairo_fill(cr);
@@ -105,17 +102,44 @@ void write_picture(const std::string& path, const PictureInput& in) {
   cairo_select_font_face(cr, "sans-serif", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
   cairo_set_font_size(cr, 12);
   char label[64];
-  std::snprintf(label, sizeof label, "%.3g", vmax);
-  cairo_move_to(cr, bx + 24, by + 10);
-  cairo_show_text(cr, label);
-  std::snprintf(label, sizeof label, "%.3g", vmin);
-  cairo_move_to(cr, bx + 24, by + bh);
-  cairo_show_text(cr, label);
+  if (range.constant) {
+    std::snprintf(label, sizeof label, "%.4g", range.low);
+    cairo_move_to(cr, bx + 24, by + 15);
+    cairo_show_text(cr, label);
+  } else {
+    std::snprintf(label, sizeof label, "%s%.3g", range.clipped_high ? ">= " : "", range.high);
+    cairo_move_to(cr, bx + 24, by + 10);
+    cairo_show_text(cr, label);
+    std::snprintf(label, sizeof label, "%s%.3g", range.clipped_low ? "<= " : "", range.low);
+    cairo_move_to(cr, bx + 24, by + bh);
+    cairo_show_text(cr, label);
+  }
   cairo_move_to(cr, bx - 10, by + bh + 18);
   cairo_show_text(cr, in.value_label.c_str());
+
+  // Scale bar, beside the plot under the colour bar: a round length of at most 90 pixels.
+  const double length = round_length(90 / scale);
+  const double lx = plot_w + 10, ly = by + bh + 50;
+  cairo_set_line_width(cr, 3);
+  cairo_move_to(cr, lx, ly);
+  cairo_line_to(cr, lx + length * scale, ly);
+  cairo_stroke(cr);
+  if (length >= 1) {
+    std::snprintf(label, sizeof label, "%g m", length);
+  } else if (length >= 1e-3) {
+    std::snprintf(label, sizeof label, "%g mm", length * 1e3);
+  } else {
+    std::snprintf(label, sizeof label, "%g um", length * 1e6);
+  }
+  cairo_move_to(cr, lx, ly - 6);
+  cairo_show_text(cr, label);
+
   cairo_set_font_size(cr, 16);
-  cairo_move_to(cr, 10, 24);
+  cairo_move_to(cr, 10, 20);
   cairo_show_text(cr, in.title.c_str());
+  cairo_set_font_size(cr, 12);
+  cairo_move_to(cr, 10, 36);
+  cairo_show_text(cr, in.subtitle.c_str());
 
   cairo_destroy(cr);
   const cairo_status_t status = cairo_surface_write_to_png(surface, path.c_str());

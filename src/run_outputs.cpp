@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <sstream>
 #include <stdexcept>
 
 #include "src/error.h"
@@ -233,6 +234,27 @@ void RunOutputs::frame(double t, const double* y) {
   times_.push_back(t);
 }
 
+namespace {
+
+// The picture's second line: why the run ended where it did, after how many steps of what.
+std::string how_it_ended(const nlohmann::json& summary) {
+  std::ostringstream s;
+  const nlohmann::json& stopped = summary.value("stopped_early", nlohmann::json(false));
+  if (stopped == "at_rest") {
+    s << "stopped at rest (kinetic energy below the scene's stop)";
+  } else if (stopped == "signal") {
+    s << "stopped by a signal (resume from checkpoint.h5)";
+  } else if (summary.contains("frozen_at") && summary["frozen_at"].is_number()) {
+    s << "mechanics frozen at " << summary["frozen_at"].get<double>() << " s, heat to t_end";
+  } else {
+    s << "reached t_end";
+  }
+  s << "; " << summary.value("steps", 0L) << " steps of " << summary.value("integrator", std::string("?"));
+  return s.str();
+}
+
+}  // namespace
+
 PictureInput RunOutputs::picture(double t, const double* y, const std::string& title) const {
   PictureInput pic;
   for (int i = 0; i < sys_.particles(); ++i) {
@@ -240,6 +262,7 @@ PictureInput RunOutputs::picture(double t, const double* y, const std::string& t
     pic.radius.push_back(sys_.radius(i));
     pic.value.push_back(sys_.thermal() ? y[sys_.temperature_at() + i]
                                        : std::hypot(y[sys_.vx_at() + i], y[sys_.vy_at() + i]));
+    pic.of_wall.push_back(sys_.attached(i));
   }
   pic.value_label = sys_.thermal() ? "temperature (C)" : "speed (m/s)";
   sys_.wall_geometry(t, y, pic.wall_a, pic.wall_b);  // where the walls are at t, moving ones too
@@ -254,7 +277,8 @@ void RunOutputs::checkpoint(const Snapshot& s) {
 
 void RunOutputs::finish(double t, const double* y, const nlohmann::json& summary, const std::string& title) {
   h5_->close();
-  const PictureInput pic = picture(t, y, title);
+  PictureInput pic = picture(t, y, title);
+  pic.subtitle = how_it_ended(summary);
   // Everything is written before anything is published: a failure leaves no final name behind.
   write_picture(path("picture.png.tmp"), pic);
   write_file(path("result.xdmf.tmp"), xdmf_document("result.h5", layout_, times_));

@@ -278,7 +278,7 @@ nlohmann::json SceneRun::go() {
   nlohmann::json s = summary(ended);
   if (files_) {
     std::ostringstream title;
-    title << scene_.name << "  t = " << t_ << " s  (" << scene_.integrator << ")";
+    title << scene_.name << "   t = " << t_ << " s of " << scene_.t_end << " s";
     files_->finish(t_, y_.data(), s, title.str());
   }
   if (ended == Ended::signal) {
