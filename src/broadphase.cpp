@@ -118,11 +118,7 @@ void Broadphase::wall_pairs(const double* x, const double* y, const double* r, i
     const size_t first = out.size();
     const double reach = r[i] + skin_;
     auto accept = [&](int s) {
-      Vec2 p{x[i], y[i]};
-      if (cell.any()) {
-        const Vec2 mid = 0.5 * (a[s] + b[s]);
-        p = mid + cell.minimum_image(p.x - mid.x, p.y - mid.y);
-      }
+      const Vec2 p = cell.image_near({x[i], y[i]}, 0.5 * (a[s] + b[s]));
       if (segment_distance(p, a[s], b[s]) < reach) out.push_back({i, s});
     };
     for (int ix = -kx; ix <= kx; ++ix)

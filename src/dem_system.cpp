@@ -303,7 +303,7 @@ void DemSystem::attached_particles(Evaluation& e) {
     if (w < 0) continue;
     WallLoad& load = wall_loads_[w];
     load.force = load.force + f;
-    load.torque += cross(cell_.minimum_image(e.x[i] - wall_centre_[w].x, e.y[i] - wall_centre_[w].y), f) + torque;
+    load.torque += cross(cell_.image_near({e.x[i], e.y[i]}, wall_centre_[w]) - wall_centre_[w], f) + torque;
     load.power -= f.x * e.vx[i] + f.y * e.vy[i] + (e.torque ? torque * e.w[i] : 0.0);
   }
 }

@@ -217,9 +217,7 @@ class DemSystem final : public OdeSystem {
     return disc_segment_contact(scene_.segments, a, b, s, image_at(px, py, i, a[s], b[s]), radius_[i], hit, apart_too);
   }
   Vec2 image_at(const double* px, const double* py, int i, Vec2 a, Vec2 b) const {
-    if (!cell_.any()) return {px[i], py[i]};
-    const Vec2 mid = 0.5 * (a + b);
-    return mid + cell_.minimum_image(px[i] - mid.x, py[i] - mid.y);
+    return cell_.image_near({px[i], py[i]}, 0.5 * (a + b));
   }
 
   // The contact kernel (contact_kernel.h): one touching contact, particle-particle or

@@ -20,6 +20,13 @@ inline std::string describe(const Location& at) {
   return s.str();
 }
 
+// A number for a message, in as few digits as the stream writes it (1e-07, 0.002).
+inline std::string message_number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
 // A scene or argument that cannot be used. what() is the full message for the user.
 class InputError : public std::runtime_error {
  public:

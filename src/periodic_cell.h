@@ -23,6 +23,12 @@ struct PeriodicCell {
     if (y) dy -= length_y() * std::nearbyint(dy / length_y());
     return {dx, dy};
   }
+  // The image of p nearest the point `near`: where p meets a wall segment (near its middle).
+  Vec2 image_near(Vec2 p, Vec2 near) const {
+    if (!any()) return p;
+    const Vec2 d = minimum_image(p.x - near.x, p.y - near.y);
+    return {near.x + d.x, near.y + d.y};
+  }
   // The image of a point inside the cell, [x0, x1) x [y0, y1) along the periodic axes.
   Vec2 wrap(Vec2 p) const {
     if (x) p.x -= length_x() * std::floor((p.x - x0) / length_x());

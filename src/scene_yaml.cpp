@@ -703,13 +703,6 @@ void attach_particles(const std::vector<Attachment>& attachments, Scene& scene) 
   }
 }
 
-// A number in as few digits as it needs (1e-07, 0.002).
-std::string shortest(double v) {
-  std::ostringstream s;
-  s << v;
-  return s.str();
-}
-
 // periodic: {x: [x0, x1], y: [y0, y1]}: the cell repeats along each axis given. Every particle
 // starts inside it, and a period is at least four of the largest diameters, so that a particle
 // meets each neighbour through one image only, with room for the neighbour skin.
@@ -727,7 +720,7 @@ void read_periodic(const SceneNode& root, Scene& scene, const ParticleSets& sets
     hi = point_of(v[1], v[0]).x;
     if (!(hi > lo)) range->fail("expected [low, high] with high > low");
     if (!(hi - lo >= 8 * largest))
-      range->fail("the period is shorter than four of the largest particle diameters (8 x " + shortest(largest) +
+      range->fail("the period is shorter than four of the largest particle diameters (8 x " + message_number(largest) +
                   " m): a particle would meet a neighbour through two images");
     on = true;
   };
@@ -817,8 +810,7 @@ void check_initial_contacts(const SceneNode& root, const Scene& scene, const Par
     const Segment& s = scene.segments[p.j];
     const std::string wall = "wall '" + scene.walls[s.wall].name + "' (walls." + std::to_string(s.wall) + ")";
     const Location& at = sets.location[sets.of[p.i]];
-    const Vec2 mid = 0.5 * (s.a + s.b), d = scene.position[p.i] - mid;
-    const double distance = distance_to_segment(mid + scene.periodic.minimum_image(d.x, d.y), s.a, s.b);
+    const double distance = distance_to_segment(scene.periodic.image_near(scene.position[p.i], 0.5 * (s.a + s.b)), s.a, s.b);
     if (distance == 0)
       throw InputError(at, sets.describe(p.i) + " has its centre on " + wall +
                                ": the contact normal is undefined, even with allow_overlap; move it off the wall");

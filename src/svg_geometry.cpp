@@ -47,12 +47,6 @@ std::string quoted(char c) {
   return std::string("byte 0x") + hex[byte >> 4] + hex[byte & 15];
 }
 
-std::string format(double x) {
-  std::ostringstream s;
-  s << x;
-  return s.str();
-}
-
 bool one_of(char c, std::string_view set) { return set.find(c) != std::string_view::npos; }
 
 // The text of an attribute for a message, shortened: path data can be megabytes long.
@@ -321,7 +315,7 @@ class Budget {
   explicit Budget(double tolerance) : tolerance_(tolerance) {}
   void check(double more) const {
     if (!(used_ + more <= max_points))
-      throw Malformed("the drawing needs more than 1,000,000 points at a tolerance of " + format(tolerance_) +
+      throw Malformed("the drawing needs more than 1,000,000 points at a tolerance of " + message_number(tolerance_) +
                       " m: use a larger tolerance");
   }
   void take() {
@@ -974,9 +968,9 @@ std::string read_file(const std::string& path) {
 void check_placement(const std::string& path, const SvgPlacement& p) {
   const auto refuse = [&](const std::string& what) { throw InputError(Location{path, 0, ""}, what); };
   if (!(std::isfinite(p.scale) && p.scale > 0))
-    refuse("the scale must be a finite number > 0 (metres per user unit), got " + format(p.scale));
+    refuse("the scale must be a finite number > 0 (metres per user unit), got " + message_number(p.scale));
   if (!(std::isfinite(p.tolerance) && p.tolerance > 0))
-    refuse("the tolerance must be a finite number > 0 (metres), got " + format(p.tolerance));
+    refuse("the tolerance must be a finite number > 0 (metres), got " + message_number(p.tolerance));
   if (!(std::isfinite(p.offset.x) && std::isfinite(p.offset.y))) refuse("the offset must be finite");
 }
 
