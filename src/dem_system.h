@@ -158,6 +158,12 @@ class DemSystem final : public OdeSystem {
     double torque = 0, power = 0;
   };
   const std::vector<WallLoad>& wall_loads() const { return wall_loads_; }
+  // The velocity of wall w's point `p` at time t in state y: its driven motion plus, for a
+  // load-controlled wall, the speed of its free coordinate.
+  Vec2 wall_point_velocity(int w, Vec2 p, double t, const double* y) const {
+    return wall_velocity_at(scene_.walls[w].motion, p, t) + body_velocity(w, y);
+  }
+  Vec2 body_velocity(int w, const double* y) const;  // the free coordinate's part alone
   const Scene& scene() const { return scene_; }
   // The wall time of the stages this system runs (neighbour update, contacts, conduction).
   const StageProfile& profile() const { return profile_; }
@@ -198,9 +204,8 @@ class DemSystem final : public OdeSystem {
   // The contact frames of the touching contacts that have none, at the committed state (t, y).
   void frame_new_contacts(double t, const double* y);
   void update_walls(double t, const double* y);
-  // Where the free coordinate of wall w's body puts it (offset and velocity), in state y.
+  // Where the free coordinate of wall w's body puts it, in state y.
   Vec2 body_offset(int w, const double* y) const;
-  Vec2 body_velocity(int w, const double* y) const;
   // A particle's place in the cell (its wrapped image): where walls and the tree see it.
   Vec2 place(const double* px, const double* py, int i) const { return cell_.wrap({px[i], py[i]}); }
 

@@ -13,6 +13,7 @@
 #include "integrators/integrator.h"
 #include "src/bench.h"
 #include "src/error.h"
+#include "src/movie.h"
 #include "src/overrides.h"
 #include "src/scene_yaml.h"
 #include "src/simulation.h"
@@ -23,6 +24,7 @@
 #include "src/study_order.h"
 #include "src/study_sweep.h"
 #include "src/study_wp.h"
+#include "src/subprocess.h"
 
 namespace {
 
@@ -169,7 +171,57 @@ struct RunArgs {
   bool quiet = false, force = false, profile = false;
   double checkpoint_every = 0;
   std::string restart;  // a checkpoint to go on from
+  std::string movie;    // a field to draw the movie by when the run ends, or ""
 };
+
+// Draws the movie of the run in `dir` (src/movie.h) and says where it is. Returns the exit status.
+int make_movie(const std::string& dir, const kiln::Scene& scene, kiln::MovieOptions options) {
+  options.ffmpeg = kiln::find_program("ffmpeg");
+  kiln::Movie movie;
+  try {
+    movie = kiln::write_movie(dir, scene, options);
+  } catch (const kiln::OutputError& e) {
+    std::fprintf(stderr, "error: %s (no movie was published)\n", e.what());
+    return kiln::exit_output_failed;
+  }
+  if (movie.stopped_by != 0) {
+    std::fprintf(stderr, "movie of %s: stopped by %s; no frames were published\n", dir.c_str(),
+                 kiln::signal_name(movie.stopped_by));
+    return movie.stopped_by == SIGINT ? kiln::exit_sigint : kiln::exit_sigterm;
+  }
+  if (!movie.failure.empty()) {
+    std::fprintf(stderr, "error: %s could not encode %s/movie.mp4 (%s); the %d frames are in %s/\n",
+                 options.ffmpeg.c_str(), dir.c_str(), movie.failure.c_str(), movie.frames, movie.frames_dir.c_str());
+    return kiln::exit_output_failed;
+  }
+  if (options.quiet) return kiln::exit_success;
+  if (movie.mp4.empty())
+    std::printf("movie: %d frames in %s/; installing Debian's ffmpeg (apt-get install ffmpeg) also gives "
+                "%s/movie.mp4\n",
+                movie.frames, movie.frames_dir.c_str(), dir.c_str());
+  else
+    std::printf("movie: %s (%d frames at %d per second; the frames are in %s/)\n", movie.mp4.c_str(), movie.frames,
+                options.fps, movie.frames_dir.c_str());
+  return kiln::exit_success;
+}
+
+// DIR/plots.png: the case quantities of the run in DIR over time (scripts/plot_case.py).
+int plot(const std::string& dir, bool quiet) {
+  const std::string summary = (std::filesystem::path(dir) / "summary.json").string();
+  if (!std::filesystem::exists(summary))
+    throw kiln::InputError("kiln plot: " + summary + " not found: give the output directory of a run (kiln run "
+                           "SCENE --out DIR)");
+  const kiln::ProgramResult r =
+      kiln::run_program({"/usr/bin/python3", std::string(KILN_SCRIPTS_DIR) + "/plot_case.py", dir});
+  std::fprintf(stderr, "%s", r.errors.c_str());  // the script's warnings and errors
+  if (r.status != 0) {
+    std::fprintf(stderr, "error: %s/plots.png not written (it needs Debian's /usr/bin/python3 with matplotlib and "
+                         "h5py: apt-get install python3-matplotlib python3-h5py)\n", dir.c_str());
+    return kiln::exit_output_failed;
+  }
+  if (!quiet) std::printf("plots: %s/plots.png\n", dir.c_str());
+  return kiln::exit_success;
+}
 
 std::string read_text(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -215,7 +267,7 @@ int run(const SceneArgs& a, const RunArgs& r) {
     // The scene is the checkpoint's; only the end time may change (and the output options).
     if (!a.integrator.empty() || a.dt > 0 || a.rtol > 0 || a.atol > 0 || a.contact_events || !a.sets.empty() || !out.empty())
       throw kiln::InputError("--restart: the scene, its steps and its output directory are the checkpoint's; only "
-                             "--t-end, --checkpoint-every and --quiet may be given with it");
+                             "--t-end, --checkpoint-every, --quiet and --movie may be given with it");
     checkpoint = kiln::Snapshot::read(r.restart);
     std::vector<std::string> sets;
     if (a.t_end > 0) sets.push_back(kiln::assignment("t_end", a.t_end));
@@ -234,6 +286,7 @@ int run(const SceneArgs& a, const RunArgs& r) {
     options.source = {std::filesystem::absolute(a.path).string(), read_text(a.path), overrides_of(a)};
     if (out.empty()) out = "out/" + scene.name;
   }
+  if (!r.movie.empty()) kiln::check_movie_field(scene, r.movie, "--movie");  // before the run, not after
   const kiln::DtVerdict verdict = kiln::judge_dt(kiln::estimate_stability(scene), scene.dt, scene);
   for (const std::string& w : verdict.warnings)
     std::fprintf(stderr, "%s: %s\n", verdict.unstable && !r.force ? "error" : "warning", w.c_str());
@@ -243,8 +296,16 @@ int run(const SceneArgs& a, const RunArgs& r) {
   const nlohmann::json s = kiln::run_scene(scene, options);
   report_run(scene, s, out, r.quiet);
   if (r.profile) std::printf("%s", kiln::profile_table(s["profile"]).c_str());
-  if (s["stopped_early"] == "signal") return kiln::stop_signal() == SIGINT ? kiln::exit_sigint : kiln::exit_sigterm;
-  return kiln::exit_success;
+  int status = kiln::exit_success;
+  if (s["stopped_early"] == "signal") status = kiln::stop_signal() == SIGINT ? kiln::exit_sigint : kiln::exit_sigterm;
+  if (r.movie.empty()) return status;
+  // A run stopped by a signal gets its movie too, of the frames it finished.
+  std::fflush(stdout);  // the run's line before the movie's messages
+  kiln::MovieOptions movie;
+  movie.field = r.movie;
+  movie.quiet = r.quiet;
+  const int movie_status = make_movie(out, scene, movie);
+  return status != kiln::exit_success ? status : movie_status;
 }
 
 int list_cases() {
@@ -292,6 +353,26 @@ int main(int argc, char** argv) {
       ->check(positive_finite);
   run_cmd->add_option("--restart", run_opts.restart, "go on from DIR/checkpoint.h5, appending to DIR/result.h5")
       ->check(CLI::ExistingFile);
+  run_cmd->add_option("--movie", run_opts.movie,
+                      "when the run ends, draw its frames coloured by this field into OUT/movie/ and OUT/movie.mp4 "
+                      "(as 'kiln movie')")
+      ->check(CLI::IsMember(kiln::movie_fields()));
+  std::string movie_dir;
+  kiln::MovieOptions movie_opts;
+  CLI::App* movie_cmd = app.add_subcommand(
+      "movie", "draw a run's frames (DIR/result.h5) into DIR/movie/ and, with ffmpeg, DIR/movie.mp4");
+  movie_cmd->add_option("dir", movie_dir, "the output directory of a run")->required()->check(CLI::ExistingDirectory);
+  movie_cmd->add_option("--field", movie_opts.field, "colour the discs by speed, temperature or species (material)")
+      ->check(CLI::IsMember(kiln::movie_fields()));
+  movie_cmd->add_option("--fps", movie_opts.fps, "frames per second of movie.mp4 (default 25)")
+      ->check(CLI::Range(1, 240));
+  movie_cmd->add_flag("--quiet", movie_opts.quiet, "no progress and no closing line");
+  std::string plot_dir;
+  bool plot_quiet = false;
+  CLI::App* plot_cmd = app.add_subcommand(
+      "plot", "plot a run's case quantities over time (DIR/summary.json, DIR/result.h5) into DIR/plots.png");
+  plot_cmd->add_option("dir", plot_dir, "the output directory of a run")->required()->check(CLI::ExistingDirectory);
+  plot_cmd->add_flag("--quiet", plot_quiet, "no closing line");
   CLI::App* check_cmd = app.add_subcommand("check", "validate a scene and print its time-step estimates");
   add_scene_options(check_cmd, check_args);
   check_cmd->get_option("scene")->required();
@@ -347,6 +428,10 @@ int main(int argc, char** argv) {
   }
   try {
     if (*run_cmd) return run(run_args, run_opts);
+    if (*movie_cmd) {
+      return make_movie(movie_dir, kiln::scene_of_run(movie_dir), movie_opts);
+    }
+    if (*plot_cmd) return plot(plot_dir, plot_quiet);
     if (*check_cmd) return check(check_args);
     if (*cases_cmd) return list_cases();
     if (*integrators_cmd) return list_integrators();

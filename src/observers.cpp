@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <stdexcept>
 
 #include "src/dem_system.h"
 #include "src/wall_geometry.h"
@@ -75,20 +76,14 @@ class BounceObserver final : public Observer {
     out["bounce_heights"] = heights_;
     out["contact_durations"] = durations_;
   }
-  void save(Snapshot& s, const std::string& p) const override {
-    s.put(p + "last", {last_gap_, last_t_, onset_, have_last_ ? 1.0 : 0.0, awaiting_apex_ ? 1.0 : 0.0});
-    s.put(p + "heights", heights_);
-    s.put(p + "durations", durations_);
-  }
-  void restore(const Snapshot& s, const std::string& p) override {
-    const std::vector<double>& last = s.reals(p + "last");
-    last_gap_ = last.at(0);
-    last_t_ = last.at(1);
-    onset_ = last.at(2);
-    have_last_ = last.at(3) != 0;
-    awaiting_apex_ = last.at(4) != 0;
-    heights_ = s.reals(p + "heights");
-    durations_ = s.reals(p + "durations");
+  void state(ObserverState& s) override {
+    s.field("last_gap", last_gap_);
+    s.field("last_t", last_t_);
+    s.field("onset", onset_);
+    s.field("have_last", have_last_);
+    s.field("awaiting_apex", awaiting_apex_);
+    s.field("heights", heights_);
+    s.field("durations", durations_);
   }
 
  private:
@@ -118,14 +113,12 @@ class InclineObserver final : public Observer {
     out["incline_acceleration"] = slope;
     out["slip_ratio"] = 1 + w * sys_.radius(0) / vx;
   }
-  void save(Snapshot& s, const std::string& p) const override { s.put(p + "fit", {fit_.n, fit_.sx, fit_.sy, fit_.sxx, fit_.sxy}); }
-  void restore(const Snapshot& s, const std::string& p) override {
-    const std::vector<double>& f = s.reals(p + "fit");
-    fit_.n = f.at(0);
-    fit_.sx = f.at(1);
-    fit_.sy = f.at(2);
-    fit_.sxx = f.at(3);
-    fit_.sxy = f.at(4);
+  void state(ObserverState& s) override {
+    s.field("fit_n", fit_.n);
+    s.field("fit_sx", fit_.sx);
+    s.field("fit_sy", fit_.sy);
+    s.field("fit_sxx", fit_.sxx);
+    s.field("fit_sxy", fit_.sxy);
   }
 
  private:
@@ -226,25 +219,40 @@ class TemperatureProfileObserver final : public Observer {
   const DemSystem& sys_;
 };
 
-// Mixing of the particles that started in the left and the right half (split at the initial
-// mean x), by Lacey's index M = (S0^2 - S^2) / (S0^2 - SR^2) (Lacey 1954; the index CASES.md asks
-// for in C2): S^2 the count-weighted variance of the left-started fraction over square cells three
-// mean diameters wide holding at least 3 particles, S0^2 = p (1 - p) fully segregated and
-// SR^2 = S0^2 / n the random mixture of cells of n particles (the mean occupancy). 0 segregated,
-// 1 random. Sampled every output interval with the temperature spread (thermal scenes), and at
-// the end the bed's shape: the centre of mass and the tilt of the bed's long axis (the
-// principal axis of the particle positions), positive when it rises to the right.
+// Mixing of a tracer (the particles that started in the left half, or one species) with the rest,
+// by Lacey's index M = (S0^2 - S^2) / (S0^2 - SR^2) (Lacey 1954; the index CASES.md asks
+// for in C2): S^2 the weighted variance of the tracer's share over square cells (fixed in space)
+// holding at least 3 particles, S0^2 = p (1 - p) fully segregated and SR^2 = S0^2 / n the random
+// mixture of cells of n particles (the mean occupancy). 0 segregated,
+// 1 random. Sampled every output interval with the bed's tilt and the temperature spread (thermal
+// scenes); at the end the bed's shape and its dynamic angle of repose.
 class MixingObserver final : public Observer {
  public:
-  explicit MixingObserver(const DemSystem& sys) : sys_(sys), interval_(sys.scene().output_interval) {
+  // The tracer: the particles that start left of the mean x (a hot and a cold half, T6, T7), or
+  // those of the scene's first material (two species, C2). Particles of walls take no part.
+  enum class Tracer { left_half, first_material };
+  MixingObserver(const DemSystem& sys, Tracer tracer) : sys_(sys), interval_(sys.scene().output_interval) {
     const Scene& sc = sys.scene();
-    double mean_x = 0, mean_r = 0;
+    double mean_x = 0, mean_r = 0, free = 0;
+    for (int i = 0; i < sc.n_particles(); ++i)
+      if (!sys.attached(i)) {
+        mean_x += sc.position[i].x;
+        mean_r += sc.radius[i];
+        free += 1;
+      }
+    mean_x /= free;
+    mean_r /= free;
+    double largest = 0;
     for (int i = 0; i < sc.n_particles(); ++i) {
-      mean_x += sc.position[i].x / sc.n_particles();
-      mean_r += sc.radius[i] / sc.n_particles();
+      const bool halves = tracer == Tracer::left_half;
+      tracer_.push_back(halves ? sc.position[i].x < mean_x : sc.material[i] == 0);
+      weight_.push_back(halves ? 1.0 : M_PI * sc.radius[i] * sc.radius[i]);
+      if (!sys.attached(i)) largest = std::max(largest, sc.radius[i]);
     }
-    for (int i = 0; i < sc.n_particles(); ++i) left_.push_back(sc.position[i].x < mean_x);
-    cell_ = 6 * mean_r;
+    // Halves of similar grains: cells three mean diameters wide, shares by count. Species of
+    // different sizes: shares by area (a ball is not worth a grain), in cells two of the largest
+    // diameters wide, so that a cell of balls holds several.
+    cell_ = tracer == Tracer::left_half ? 6 * mean_r : 4 * largest;
   }
   void sample(double t, const double* y) override {
     if (t < next_) return;
@@ -254,9 +262,44 @@ class MixingObserver final : public Observer {
   void report(double t, const double* y, nlohmann::json& out) override {
     if (time_.empty() || time_.back() < t) record(t, y);
     out["mixing_index"] = index_.back();
-    out["mixing_history"] = {{"time", time_}, {"lacey_index", index_}};
+    out["mixing_history"] = {{"time", time_}, {"lacey_index", index_}, {"bed_tilt_deg", tilt_}, {"lacey_cell", cell_}};
     if (sys_.thermal()) out["mixing_history"]["temperature_std"] = spread_;
-    // Bed shape: centre of mass and principal axis of the positions (mass-weighted).
+    const BedShape shape = bed_shape(y);
+    out["bed_centre"] = {shape.centre.x, shape.centre.y};
+    out["bed_tilt_deg"] = shape.tilt_deg;
+    // The dynamic angle of repose: the mean tilt over the second half of the run, once the bed
+    // rolls steadily (the first half lets it fall in and climb to its angle).
+    double sum = 0, count = 0;
+    for (size_t k = 0; k < time_.size(); ++k)
+      if (time_[k] >= 0.5 * t) {
+        sum += tilt_[k];
+        count += 1;
+      }
+    out["dynamic_angle_of_repose_deg"] = sum / count;
+  }
+  void state(ObserverState& s) override {
+    s.field("next", next_);
+    s.field("time", time_);
+    s.field("index", index_);
+    s.field("spread", spread_);
+    s.field("tilt", tilt_);
+  }
+
+ private:
+  void record(double t, const double* y) {
+    time_.push_back(t);
+    index_.push_back(lacey(y));
+    tilt_.push_back(bed_shape(y).tilt_deg);
+    if (sys_.thermal()) spread_.push_back(mean_and_spread(y + sys_.temperature_at(), sys_.particles()).second);
+  }
+  // The bed's centre of mass and the tilt of its long axis (the principal axis of the
+  // mass-weighted positions), positive when it rises to the right: for a bed filling less than
+  // half the drum, the long axis lies along the free surface.
+  struct BedShape {
+    Vec2 centre;
+    double tilt_deg = 0;
+  };
+  BedShape bed_shape(const double* y) const {
     const int n = sys_.particles();
     const double *px = y + sys_.x_at(), *py = y + sys_.y_at();
     double m = 0, cx = 0, cy = 0;
@@ -273,58 +316,66 @@ class MixingObserver final : public Observer {
       syy += sys_.mass(i) * (py[i] - cy) * (py[i] - cy);
       sxy += sys_.mass(i) * (px[i] - cx) * (py[i] - cy);
     }
-    out["bed_centre"] = {cx, cy};
-    out["bed_tilt_deg"] = 0.5 * std::atan2(2 * sxy, sxx - syy) * 180 / M_PI;
-  }
-  void save(Snapshot& s, const std::string& p) const override {
-    s.put(p + "next", next_);
-    s.put(p + "time", time_);
-    s.put(p + "index", index_);
-    s.put(p + "spread", spread_);
-  }
-  void restore(const Snapshot& s, const std::string& p) override {
-    next_ = s.real(p + "next");
-    time_ = s.reals(p + "time");
-    index_ = s.reals(p + "index");
-    spread_ = s.reals(p + "spread");
-  }
-
- private:
-  void record(double t, const double* y) {
-    time_.push_back(t);
-    index_.push_back(lacey(y));
-    if (sys_.thermal()) spread_.push_back(mean_and_spread(y + sys_.temperature_at(), sys_.particles()).second);
+    return {{cx, cy}, 0.5 * std::atan2(2 * sxy, sxx - syy) * 180 / M_PI};
   }
   double lacey(const double* y) const {
     const int n = sys_.particles();
     const double *px = y + sys_.x_at(), *py = y + sys_.y_at();
-    std::map<std::pair<long, long>, std::pair<int, int>> cells;  // (left-started, all) per cell
+    struct Cell {
+      double tracer = 0, all = 0;  // weights
+      int count = 0;
+    };
+    std::map<std::pair<long, long>, Cell> cells;
     for (int i = 0; i < n; ++i) {
-      auto& c = cells[{std::lround(std::floor(px[i] / cell_)), std::lround(std::floor(py[i] / cell_))}];
-      c.first += left_[i];
-      c.second += 1;
+      if (sys_.attached(i)) continue;
+      Cell& c = cells[{std::lround(std::floor(px[i] / cell_)), std::lround(std::floor(py[i] / cell_))}];
+      if (tracer_[i]) c.tracer += weight_[i];
+      c.all += weight_[i];
+      c.count += 1;
     }
-    double total = 0, left = 0, cells_used = 0;
+    double total = 0, tracer = 0, count = 0, cells_used = 0;
     for (const auto& [key, c] : cells)
-      if (c.second >= 3) {
-        total += c.second;
-        left += c.first;
+      if (c.count >= 3) {
+        total += c.all;
+        tracer += c.tracer;
+        count += c.count;
         cells_used += 1;
       }
     if (cells_used < 2) return NAN;
-    const double p = left / total, s0 = p * (1 - p), sr = s0 / (total / cells_used);
+    const double p = tracer / total, s0 = p * (1 - p), sr = s0 / (count / cells_used);
     double s2 = 0;
     for (const auto& [key, c] : cells)
-      if (c.second >= 3) s2 += c.second * std::pow(static_cast<double>(c.first) / c.second - p, 2) / total;
+      if (c.count >= 3) s2 += c.all * std::pow(c.tracer / c.all - p, 2) / total;
     return (s0 - s2) / (s0 - sr);
   }
   const DemSystem& sys_;
   double interval_, cell_ = 0, next_ = 0;
-  std::vector<bool> left_;
-  std::vector<double> time_, index_, spread_;
+  std::vector<bool> tracer_;
+  std::vector<double> weight_;  // of each particle in its cell's share: 1 (count), or its area
+  std::vector<double> time_, index_, spread_, tilt_;
 };
 
 }  // namespace
+
+void ObserverState::field(const std::string& key, double& v) {
+  if (out_) out_->put(prefix_ + key, v);
+  else v = in_->real(prefix_ + key);
+}
+
+void ObserverState::field(const std::string& key, bool& v) {
+  if (out_) out_->put_integer(prefix_ + key, v);
+  else v = in_->integer(prefix_ + key) != 0;
+}
+
+void ObserverState::field(const std::string& key, int& v) {
+  if (out_) out_->put_integer(prefix_ + key, v);
+  else v = static_cast<int>(in_->integer(prefix_ + key));
+}
+
+void ObserverState::field(const std::string& key, std::vector<double>& v) {
+  if (out_) out_->put(prefix_ + key, v);
+  else v = in_->reals(prefix_ + key);
+}
 
 HeapShape measure_heap(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& r) {
   HeapShape shape;
@@ -396,19 +447,60 @@ HeapShape measure_heap(const std::vector<double>& x, const std::vector<double>& 
   return shape;
 }
 
+namespace {
+
+// Every observer a scene may name under `report`, with its factory. Observers of one case live in
+// files of their own (observe_*.cpp) and are declared in observers.h.
+template <class T>
+std::unique_ptr<Observer> make(const DemSystem& system) {
+  return std::make_unique<T>(system);
+}
+std::string needs_heat(const Scene& scene) { return scene.thermal ? "" : "a thermal scene"; }
+std::string needs_walls(const Scene& scene) { return scene.walls.empty() ? "walls" : ""; }
+std::string needs_species(const Scene& scene) { return scene.n_materials() >= 2 ? "" : "two materials (the species)"; }
+template <MixingObserver::Tracer tracer>
+std::unique_ptr<Observer> make_mixing(const DemSystem& system) {
+  return std::make_unique<MixingObserver>(system, tracer);
+}
+struct Entry {
+  const char* name;
+  std::unique_ptr<Observer> (*factory)(const DemSystem&);
+  std::string (*unmet)(const Scene&);  // what the scene lacks for this observer, or ""
+};
+const Entry registry[] = {
+    {"bounce_heights", make<BounceObserver>, nullptr},
+    {"discharge", make_discharge_observer, discharge_observer_needs},
+    {"heap", make<HeapObserver>, nullptr},
+    {"incline_motion", make<InclineObserver>, nullptr},
+    {"mixing", make_mixing<MixingObserver::Tracer::left_half>, nullptr},
+    {"species_mixing", make_mixing<MixingObserver::Tracer::first_material>, needs_species},
+    {"shear_profile", make_shear_observer, shear_observer_needs},
+    {"temperatures", make<TemperatureObserver>, needs_heat},
+    {"temperature_profile", make<TemperatureProfileObserver>, needs_heat},
+    {"wall_impacts", make_impact_observer, needs_walls},
+};
+
+}  // namespace
+
 const std::vector<std::string>& observer_names() {
-  static const std::vector<std::string> names = {"bounce_heights", "heap", "incline_motion", "mixing",
-                                                     "temperatures", "temperature_profile"};
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> v;
+    for (const Entry& e : registry) v.emplace_back(e.name);
+    return v;
+  }();
   return names;
 }
 
+std::string observer_needs(const std::string& name, const Scene& scene) {
+  for (const Entry& e : registry)
+    if (name == e.name) return e.unmet ? e.unmet(scene) : "";
+  return "";
+}
+
 std::unique_ptr<Observer> make_observer(const std::string& name, const DemSystem& system) {
-  if (name == "bounce_heights") return std::make_unique<BounceObserver>(system);
-  if (name == "heap") return std::make_unique<HeapObserver>(system);
-  if (name == "temperatures") return std::make_unique<TemperatureObserver>(system);
-  if (name == "mixing") return std::make_unique<MixingObserver>(system);
-  if (name == "temperature_profile") return std::make_unique<TemperatureProfileObserver>(system);
-  return std::make_unique<InclineObserver>(system);
+  for (const Entry& e : registry)
+    if (name == e.name) return e.factory(system);
+  throw std::logic_error("make_observer: unknown observer " + name);  // the scene reader checked the name
 }
 
 }  // namespace kiln

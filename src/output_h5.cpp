@@ -263,6 +263,13 @@ void H5Frames::write_array(const char* name, hid_t type, int rank, const hsize_t
   h5_check(H5Dclose(ds), what.c_str(), path_);
 }
 
+void H5Frames::write_table(const ResultTable& table) {
+  if (H5Lexists(file_, table.name.c_str(), H5P_DEFAULT) > 0)
+    h5_check(H5Ldelete(file_, table.name.c_str(), H5P_DEFAULT), ("replace dataset '" + table.name + "' in").c_str(), path_);
+  write_array(table.name.c_str(), H5T_NATIVE_DOUBLE, static_cast<int>(table.shape.size()), table.shape.data(),
+              table.values.data(), table.units.c_str());
+}
+
 void H5Frames::write_constant(const std::vector<double>& radius) {
   const hsize_t dims[] = {static_cast<hsize_t>(layout_.particles)};
   write_array("radius", H5T_NATIVE_DOUBLE, 1, dims, radius.data(), "m");

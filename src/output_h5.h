@@ -17,6 +17,8 @@
 //   wall_force        (F x W x 3)  N      what the particles exert on each wall (z = 0)
 //   wall_torque       (F x W)      N m    its torque about the wall's centre, counter-clockwise
 //   wall_power        (F x W)      W      the power the wall delivers to the particles
+// and the tables case observers add at the end of a run (observers.h), e.g.
+//   impact_energy_histogram (W x B) 1, impact_energy_bin_edges (B + 1) J   (wall_impacts)
 // Attributes of the file: scene, integrator, dt, kiln_version, run_id, and with walls
 // wall_names (W variable-length UTF-8 strings, in the order of the walls).
 // Every HDF5 call is checked where it is made, and the file is flushed after each frame: a write
@@ -31,6 +33,13 @@
 #include "src/outputs.h"
 
 namespace kiln {
+
+// A table a case adds to result.h5 at the end of a run: row-major values of the given shape.
+struct ResultTable {
+  std::string name, units;
+  std::vector<hsize_t> shape;
+  std::vector<double> values;
+};
 
 // One frame's fields, each an array of the layout's size (null where noted).
 struct H5Frame {
@@ -65,6 +74,7 @@ class H5Frames {
   void write_walls(const std::vector<int>& wall_of_segment, const std::vector<std::string>& names,
                    const double* fixed_segments);
   void append(const H5Frame& f);  // then a flush
+  void write_table(const ResultTable& table);  // replaces a table of that name (a resumed run's)
   int frames() const { return frames_; }
   // The frames of run `run_id` that the file at `path` holds, read only; -1 when it cannot be read
   // or is another run's.

@@ -22,7 +22,10 @@ namespace fs = std::filesystem;
 const std::vector<std::string>& RunOutputs::names() {
   static const std::vector<std::string> n = {"result.h5",    "result.h5.tmp",   "result.xdmf",    "result.xdmf.tmp",
                                              "summary.json", "summary.json.tmp", "picture.png",    "picture.png.tmp",
-                                             "checkpoint.h5", "checkpoint.h5.tmp", "result.h5.killed"};
+                                             "checkpoint.h5", "checkpoint.h5.tmp", "result.h5.killed",
+                                             // drawn from a run's results (movie.h, scripts/plot_case.py)
+                                             "movie",         "movie.tmp",         "movie.mp4",        "movie.mp4.tmp",
+                                             "plots.png",     "plots.png.tmp"};
   return n;
 }
 
@@ -45,7 +48,7 @@ void move_aside(const std::string& dir) {
   std::error_code error;
   fs::create_directories(previous, error);
   for (const std::string& name : RunOutputs::names()) {
-    fs::remove(previous / name, error);
+    fs::remove_all(previous / name, error);
     if (fs::exists(fs::path(dir) / name)) fs::rename(fs::path(dir) / name, previous / name, error);
     if (error) throw OutputError("cannot move " + (fs::path(dir) / name).string() + " into " + previous.string() + ": " +
                                  error.message());
@@ -275,7 +278,9 @@ void RunOutputs::checkpoint(const Snapshot& s) {
   checkpointed_ = true;
 }
 
-void RunOutputs::finish(double t, const double* y, const nlohmann::json& summary, const std::string& title) {
+void RunOutputs::finish(double t, const double* y, const nlohmann::json& summary, const std::string& title,
+                        const std::vector<ResultTable>& tables) {
+  for (const ResultTable& table : tables) h5_->write_table(table);
   h5_->close();
   PictureInput pic = picture(t, y, title);
   pic.subtitle = how_it_ended(summary);

@@ -55,7 +55,8 @@ class RunOutputs {
   int frames() const { return h5_->frames(); }
   void checkpoint(const Snapshot& s);
   std::string checkpoint_path() const { return path("checkpoint.h5"); }
-  void finish(double t, const double* y, const nlohmann::json& summary, const std::string& title);
+  void finish(double t, const double* y, const nlohmann::json& summary, const std::string& title,
+              const std::vector<ResultTable>& tables = {});
 
   // The names a run writes, final and temporary (a new run moves these aside).
   static const std::vector<std::string>& names();

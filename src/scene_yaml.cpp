@@ -936,8 +936,7 @@ void read_checks(const SceneNode& root, Scene& scene) {
       const auto& known = observer_names();
       if (std::find(known.begin(), known.end(), name) == known.end())
         q.fail("unknown quantity '" + name + "'; available: " + choices_nearest_first(name, known));
-      if ((name == "temperatures" || name == "temperature_profile") && !scene.thermal)
-        q.fail("'" + name + "' needs a thermal scene");
+      if (const std::string need = observer_needs(name, scene); !need.empty()) q.fail("'" + name + "' needs " + need);
       scene.report.push_back(name);
     }
   }

@@ -279,7 +279,9 @@ nlohmann::json SceneRun::go() {
   if (files_) {
     std::ostringstream title;
     title << scene_.name << "   t = " << t_ << " s of " << scene_.t_end << " s";
-    files_->finish(t_, y_.data(), s, title.str());
+    std::vector<ResultTable> tables;
+    for (const auto& o : observers_) o->tables(tables);
+    files_->finish(t_, y_.data(), s, title.str(), tables);
   }
   if (ended == Ended::signal) {
     s["stopped_by"] = signal_name(stop_signal());
@@ -487,7 +489,10 @@ void SceneRun::save_checkpoint() {
   stepper.save(s, "integrator.");
   system_.save(s);
   guard_->save(s);
-  for (size_t k = 0; k < observers_.size(); ++k) observers_[k]->save(s, "observer." + std::to_string(k) + ".");
+  for (size_t k = 0; k < observers_.size(); ++k) {
+    ObserverState fields(s, "observer." + std::to_string(k) + ".");
+    observers_[k]->state(fields);
+  }
   files_->checkpoint(s);
 }
 
@@ -536,7 +541,10 @@ void SceneRun::resume(const Snapshot& s) {
   system_.restore(s);
   guard_ = std::make_unique<StabilityGuard>(scene_, system_, initial_);
   guard_->restore(s);
-  for (size_t k = 0; k < observers_.size(); ++k) observers_[k]->restore(s, "observer." + std::to_string(k) + ".");
+  for (size_t k = 0; k < observers_.size(); ++k) {
+    ObserverState fields(s, "observer." + std::to_string(k) + ".");
+    observers_[k]->state(fields);
+  }
   if (!options_.out_dir.empty())
     files_ = std::make_unique<RunOutputs>(options_.out_dir, system_, run_id_, static_cast<int>(s.integer("frames")), s);
   if (stage_ == mechanics_stage) {

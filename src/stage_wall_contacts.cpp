@@ -26,7 +26,7 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     const int wall = scene_.segments[sgi].wall;
     const WallMotion& motion = scene_.walls[wall].motion;
     const Vec2 point = image_at(e.x, e.y, i, seg_a_[sgi], seg_b_[sgi]) + r * n;
-    const Vec2 u = wall_velocity_at(motion, point, e.t) + body_velocity(wall, e.state);
+    const Vec2 u = wall_point_velocity(wall, point, e.t, e.state);
     const double wall_spin = motion.kind == WallMotion::Kind::rotate ? motion.omega : 0.0;
     ContactKinematics c;
     // rho from the continuous position: a wrap across a periodic edge leaves the spring whole.
