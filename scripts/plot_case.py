@@ -129,7 +129,7 @@ def draw(panels, ledger, summary, target):
         ax.axis("off")
     fig.suptitle(f"{summary.get('scene', '?')}: {summary.get('integrator', '?')}, t = 0 to "
                  f"{summary.get('t_end', math.nan):g} s", fontsize=12)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0, 1, 0.97))  # room for the title above the panels
     titles = [panel[0] for panel in panels] + (["energy ledger"] if ledger else [])
     tmp = target + ".tmp"
     # The panels' titles in the PNG's text (what a reader or a test can find without looking).

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace kiln {
 
@@ -43,6 +44,15 @@ double round_length(double at_most) {
   for (double m : {5.0, 2.0, 1.0})
     if (m * decade <= at_most) return m * decade;
   return decade;
+}
+
+std::string scale_label(double value, double span) {
+  if (std::abs(value) <= 1e-6 * span) return "0";
+  const int digits =
+      span > 0 ? std::clamp(static_cast<int>(std::ceil(std::log10(std::abs(value) / span))) + 3, 3, 12) : 4;
+  char text[64];
+  std::snprintf(text, sizeof text, "%.*g", digits, value);
+  return text;
 }
 
 }  // namespace kiln

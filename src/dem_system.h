@@ -13,7 +13,9 @@
 // on the relative motion, shared by beta: while a friction spring holds energy, its particles'
 // temperatures include their shares of it (at most 1/2 k_t xi^2 per contact, ~1e-9 J in the
 // shipped cases), and energy() subtracts it from `thermal` and `heat_from_dissipation`. So the
-// heat made equals the friction dissipation of the ledger exactly, whatever the springs did;
+// heat made equals the friction dissipation of the ledger, whatever the springs did (exactly under
+// ARKODE; to first order in dt under the Verlet schemes, whose ledger is their own work component
+// while the temperatures integrate the power at predicted velocities: README, Heat);
 // a heat rate from stick and slip phases could not be: the Coulomb cap resets the spring (the
 // LIGGGHTS choice, tangential_force.h), which moves stored energy by a jump.
 //

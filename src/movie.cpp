@@ -150,7 +150,14 @@ Movie write_movie(const std::string& dir_name, const Scene& scene, const MovieOp
   check_movie_field(scene, options.field, "--field");
   const fs::path dir(dir_name), tmp = dir / "movie.tmp";
   const std::string result = (dir / "result.h5").string();
-  if (!fs::exists(result)) throw InputError(result + " is missing: give the directory of a run (kiln run --out DIR)");
+  if (!fs::exists(result)) {
+    // A run killed outright leaves its finished frames in result.h5.tmp and its last checkpoint.
+    if (fs::exists(result + ".tmp"))
+      throw InputError(result + " is missing: the run in " + dir.string() +
+                       " did not finish (it was killed; its finished frames are in result.h5.tmp); "
+                       "finish it with kiln run --restart " + (dir / "checkpoint.h5").string() + ", then draw it");
+    throw InputError(result + " is missing: give the directory of a run (kiln run --out DIR)");
+  }
   FramePictures frames(result, scene, options.field);
   if (frames.frames() == 0) throw InputError(result + " holds no frames");
   Movie movie;

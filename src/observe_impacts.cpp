@@ -5,7 +5,9 @@
 // onset; a wall has no mass, so the particle's own mass carries the energy). Counted per wall, with
 // a histogram of log-spaced energies written to result.h5 (impact_energy_histogram, W x B, and its
 // bin edges) and per wall in summary.json `wall_impacts`: impacts, total, mean and largest energy.
-// A particle that rolls or slides along a wall makes one impact, when it arrives.
+// A particle that rolls or slides along a wall makes one impact, when it arrives. Only the wall's
+// segments are struck here: blows on grains attached to a wall (rough walls) are not counted,
+// though their forces are in the wall's load.
 #include <algorithm>
 #include <cmath>
 

@@ -69,6 +69,15 @@ class ShearObserver final : public Observer {
       remember_heat(y);
       return;
     }
+    // The sums belong to the window [from_, t_end]: a run resumed with another t_end has another
+    // window, so what a checkpoint carries from the old one starts over (the window then opens
+    // where the resumed run starts, if that is later than its half).
+    if (summed_from_ != from_) {
+      layers_ = 0;
+      shear_ = normal_ = gap_ = span_ = 0;
+      summed_from_ = from_;
+      opened_ = t - h;
+    }
     const int n = sys_.particles();
     const double *px = y + sys_.x_at(), *py = y + sys_.y_at();
     const double *vx = y + sys_.vx_at(), *vy = y + sys_.vy_at();
@@ -121,7 +130,7 @@ class ShearObserver final : public Observer {
     }
     const double shear = shear_ / span_, normal = normal_ / span_, gap = gap_ / span_;
     nlohmann::json& p = out["shear_profile"];
-    p = {{"window", {from_, last_t_}}, {"eta", eta}, {"velocity", v}, {"velocity_over_wall", vr},
+    p = {{"window", {opened_, last_t_}}, {"eta", eta}, {"velocity", v}, {"velocity_over_wall", vr},
          {"wall_speed", speed_}, {"gap", gap}};
     if (sys_.thermal()) {
       double total = 0;
@@ -146,6 +155,8 @@ class ShearObserver final : public Observer {
 
   void state(ObserverState& s) override {
     s.field("last_t", last_t_);
+    s.field("summed_from", summed_from_);
+    s.field("opened", opened_);
     s.field("layers", layers_);
     s.field("shear", shear_);
     s.field("normal", normal_);
@@ -171,6 +182,7 @@ class ShearObserver final : public Observer {
   double speed_ = 0, density_ = 0, diameter_ = 0, length_ = 0;
   std::vector<Vec2> a_, b_;
   double last_t_ = 0;
+  double summed_from_ = NAN, opened_ = 0;  // the window the sums are for, and when they began
   int layers_ = 0;
   std::vector<double> speed_sum_, weight_, heat_, last_temp_;
   double shear_ = 0, normal_ = 0, gap_ = 0, span_ = 0;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
 #include <stdexcept>
 
 #include "src/dem_system.h"
@@ -11,6 +12,14 @@
 namespace kiln {
 
 namespace {
+
+// The particles' materials (walls' materials and particles of walls aside).
+std::set<int> particle_materials(const Scene& scene) {
+  std::set<int> used;
+  for (int i = 0; i < scene.n_particles(); ++i)
+    if (scene.attached.empty() || scene.attached[i] == Scene::free_particle) used.insert(scene.material[i]);
+  return used;
+}
 
 // Least-squares straight line y = slope x + intercept, accumulated point by point.
 struct LineFit {
@@ -229,7 +238,8 @@ class TemperatureProfileObserver final : public Observer {
 class MixingObserver final : public Observer {
  public:
   // The tracer: the particles that start left of the mean x (a hot and a cold half, T6, T7), or
-  // those of the scene's first material (two species, C2). Particles of walls take no part.
+  // those of the first species (of the materials particles are made of, the one listed first
+  // under `materials`; C2). Particles of walls take no part.
   enum class Tracer { left_half, first_material };
   MixingObserver(const DemSystem& sys, Tracer tracer) : sys_(sys), interval_(sys.scene().output_interval) {
     const Scene& sc = sys.scene();
@@ -243,9 +253,10 @@ class MixingObserver final : public Observer {
     mean_x /= free;
     mean_r /= free;
     double largest = 0;
+    const int species = *particle_materials(sc).begin();
     for (int i = 0; i < sc.n_particles(); ++i) {
       const bool halves = tracer == Tracer::left_half;
-      tracer_.push_back(halves ? sc.position[i].x < mean_x : sc.material[i] == 0);
+      tracer_.push_back(halves ? sc.position[i].x < mean_x : sc.material[i] == species);
       weight_.push_back(halves ? 1.0 : M_PI * sc.radius[i] * sc.radius[i]);
       if (!sys.attached(i)) largest = std::max(largest, sc.radius[i]);
     }
@@ -457,7 +468,9 @@ std::unique_ptr<Observer> make(const DemSystem& system) {
 }
 std::string needs_heat(const Scene& scene) { return scene.thermal ? "" : "a thermal scene"; }
 std::string needs_walls(const Scene& scene) { return scene.walls.empty() ? "walls" : ""; }
-std::string needs_species(const Scene& scene) { return scene.n_materials() >= 2 ? "" : "two materials (the species)"; }
+std::string needs_species(const Scene& scene) {
+  return particle_materials(scene).size() >= 2 ? "" : "particles of two materials (the species)";
+}
 template <MixingObserver::Tracer tracer>
 std::unique_ptr<Observer> make_mixing(const DemSystem& system) {
   return std::make_unique<MixingObserver>(system, tracer);

@@ -10,7 +10,8 @@
 //   id                (N)          1      64-bit integers 0 .. N-1
 // and in scenes with walls:
 //   wall_segments     (S x 4) m, or (F x S x 4) when a wall moves: x_a, y_a, x_b, y_b of each
-//                     segment, i.e. the 2 S points (x, y) of the segments' ends, a then b
+//                     segment, i.e. the 2 S points (x, y) of the segments' ends, a then b (in a
+//                     periodic cell each segment shifted by whole periods to have its middle in it)
 //   wall_of_segment   (S)          1      32-bit integers: the wall (index into wall_names)
 //   wall_connectivity (S x 2)      1      32-bit integers 2s, 2s + 1: segment s joins those of the
 //                                         2 S points (result.xdmf's polyline topology)

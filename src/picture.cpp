@@ -56,10 +56,11 @@ double draw_colour_bar(cairo_t* cr, const ColourScale& range, double bx, double 
     cairo_move_to(cr, bx + 24, by + 15);
     cairo_show_text(cr, label);
   } else {
-    std::snprintf(label, sizeof label, "%s%.3g", range.clipped_high ? ">= " : "", range.high);
+    const double span = range.high - range.low;
+    std::snprintf(label, sizeof label, "%s%s", range.clipped_high ? ">= " : "", scale_label(range.high, span).c_str());
     cairo_move_to(cr, bx + 24, by + 10);
     cairo_show_text(cr, label);
-    std::snprintf(label, sizeof label, "%s%.3g", range.clipped_low ? "<= " : "", range.low);
+    std::snprintf(label, sizeof label, "%s%s", range.clipped_low ? "<= " : "", scale_label(range.low, span).c_str());
     cairo_move_to(cr, bx + 24, by + bh);
     cairo_show_text(cr, label);
   }

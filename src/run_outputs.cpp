@@ -178,7 +178,24 @@ void RunOutputs::clean_up() {
   }
 }
 
+namespace {
+
+// Walls as they are seen in a periodic cell: each segment shifted by whole periods so that its
+// middle lies in the cell (a wall driven along a periodic axis has travelled many periods).
+void place_in_cell(const PeriodicCell& cell, std::vector<Vec2>& a, std::vector<Vec2>& b) {
+  if (!cell.any()) return;
+  for (size_t s = 0; s < a.size(); ++s) {
+    const Vec2 middle = 0.5 * (a[s] + b[s]);
+    const Vec2 shift = cell.wrap(middle) - middle;
+    a[s] = a[s] + shift;
+    b[s] = b[s] + shift;
+  }
+}
+
+}  // namespace
+
 void RunOutputs::segments_rows() {
+  place_in_cell(sys_.cell(), wall_a_, wall_b_);
   segments_.resize(4 * wall_a_.size());
   for (size_t s = 0; s < wall_a_.size(); ++s) {
     segments_[4 * s] = wall_a_[s].x;
@@ -269,6 +286,7 @@ PictureInput RunOutputs::picture(double t, const double* y, const std::string& t
   }
   pic.value_label = sys_.thermal() ? "temperature (C)" : "speed (m/s)";
   sys_.wall_geometry(t, y, pic.wall_a, pic.wall_b);  // where the walls are at t, moving ones too
+  place_in_cell(sys_.cell(), pic.wall_a, pic.wall_b);
   pic.title = title;
   return pic;
 }

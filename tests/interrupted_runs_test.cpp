@@ -502,3 +502,20 @@ t_end: 0.02
   fs::remove_all(dir);
   fs::remove_all(out);
 }
+
+TEST_CASE("a shear cell resumed with a later t_end reports the profile and stresses of an uninterrupted run",
+          "[checkpoint][shear]") {
+  // The shear observer averages over the second half of the run: resumed at 0.02 s with t_end
+  // 0.04 s, its window is 0.02 .. 0.04 s, and what the checkpoint carries of the first run's
+  // window (0.01 .. 0.02 s) must not enter it.
+  const std::string file = testing::case_path("n3_shear_cell.yaml");
+  const fs::path whole = testing::fresh_dir("shear_whole"), halves = testing::fresh_dir("shear_halves");
+  run_whole({"t_end=0.04"}, whole, file);
+  run_whole({"t_end=0.02"}, halves, file);
+  const nlohmann::json resumed = resume(halves, 0.04), straight = summary_of(whole);
+  for (const char* key : {"shear_stress", "normal_stress", "effective_friction", "inertial_number"})
+    CHECK(resumed[key] == straight[key]);
+  CHECK(resumed["shear_profile"] == straight["shear_profile"]);
+  fs::remove_all(whole);
+  fs::remove_all(halves);
+}

@@ -63,3 +63,17 @@ TEST_CASE("C2 mill: the lifters take impacts no harder than a ball falling acros
   CHECK(std::abs(s["energy"]["balance_error"].get<double>()) < 1e-3 * s["energy"]["work_by_walls"].get<double>());
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("species_mixing needs particles of two materials: a wall's material is not a species", "[mill]") {
+  // Two materials, but the particles are all copper: the second is the floor's.
+  const std::string one_species = testing::replaced(
+      testing::replaced(testing::two_discs_on_a_floor, "  copper: {density: 8900, stiffness: 6000, restitution: 0.8}\n",
+                        "  steel: {stiffness: 6000, restitution: 0.8}\n  copper: {density: 8900, stiffness: 6000, "
+                        "restitution: 0.8}\n"),
+      "{name: floor, material: copper", "{name: floor, material: steel") +
+                                "report: [species_mixing]\n";
+  const std::string message = testing::error_of(one_species);
+  INFO(message);
+  CHECK(message.find("'species_mixing' needs particles of two materials") != std::string::npos);
+  CHECK(message.find("report") != std::string::npos);
+}

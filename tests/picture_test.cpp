@@ -50,3 +50,12 @@ TEST_CASE("the scale bar has a round length of at most the width given", "[pictu
   CHECK(kiln::round_length(0.0123) == Approx(0.01));
   CHECK(kiln::round_length(3e-5) == Approx(2e-5));
 }
+
+TEST_CASE("colour bar ends show the digits that tell them apart, and round-off zero as 0", "[picture]") {
+  CHECK(kiln::scale_label(299.37, 300 - 299.37) == "299.37");
+  CHECK(kiln::scale_label(300, 300 - 299.37) == "300");
+  CHECK(kiln::scale_label(3.2e-11, 100) == "0");
+  CHECK(kiln::scale_label(100, 100) == "100");
+  CHECK(kiln::scale_label(0.0484, 1.73) == "0.0484");
+  CHECK(kiln::scale_label(-2.5, 5) == "-2.5");
+}
