@@ -37,12 +37,37 @@ double slope(const std::vector<double>& t, const std::vector<double>& v, size_t 
 // fallen into a bed and the flow has set in). Where discharged discs come back in (a cell periodic
 // along y: a constant head) it runs to the end; in a bin that drains it ends at 70 %, before the
 // last layers, whose rate falls with the head.
+// The floor's plane (the lowest wall vertex) and the orifice: the widest gap between the wall
+// segments lying in that plane (none: width NaN).
+struct Orifice {
+  double plane = INFINITY, width = NAN, centre = 0;
+};
+Orifice find_orifice(const std::vector<Segment>& segments) {
+  Orifice o;
+  for (const Segment& s : segments) o.plane = std::min({o.plane, s.a.y, s.b.y});
+  std::vector<std::pair<double, double>> floor;
+  for (const Segment& s : segments)
+    if (s.a.y == o.plane && s.b.y == o.plane) floor.push_back(std::minmax(s.a.x, s.b.x));
+  std::sort(floor.begin(), floor.end());
+  double reach = floor.empty() ? 0 : floor.front().second;
+  for (const auto& [lo, hi] : floor) {
+    if (lo > reach && (std::isnan(o.width) || lo - reach > o.width)) {
+      o.width = lo - reach;
+      o.centre = 0.5 * (lo + reach);
+    }
+    reach = std::max(reach, hi);
+  }
+  return o;
+}
+
 class DischargeObserver final : public Observer {
  public:
   explicit DischargeObserver(const DemSystem& sys) : sys_(sys), interval_(sys.scene().output_interval) {
     const Scene& sc = sys.scene();
-    for (const Segment& s : sc.segments) plane_ = std::min({plane_, s.a.y, s.b.y});
-    find_orifice(sc.segments);
+    const Orifice o = find_orifice(sc.segments);
+    plane_ = o.plane;
+    orifice_ = o.width;
+    centre_ = o.centre;
     for (int i = 0; i < sc.n_particles(); ++i) {
       level_.push_back(level(sc.position[i].y));
       diameter_ += 2 * sc.radius[i] / sc.n_particles();
@@ -128,21 +153,6 @@ class DischargeObserver final : public Observer {
     if (c.y) return std::lround(std::floor((y - plane_) / c.length_y()));
     return y < plane_ ? -1 : 0;
   }
-  // The orifice: the widest gap between the wall segments lying in the plane (none: NaN).
-  void find_orifice(const std::vector<Segment>& segments) {
-    std::vector<std::pair<double, double>> floor;
-    for (const Segment& s : segments)
-      if (s.a.y == plane_ && s.b.y == plane_) floor.push_back(std::minmax(s.a.x, s.b.x));
-    std::sort(floor.begin(), floor.end());
-    double reach = floor.empty() ? 0 : floor.front().second;
-    for (const auto& [lo, hi] : floor) {
-      if (lo > reach && (std::isnan(orifice_) || lo - reach > orifice_)) {
-        orifice_ = lo - reach;
-        centre_ = 0.5 * (lo + reach);
-      }
-      reach = std::max(reach, hi);
-    }
-  }
   void record(double t, const double* y) {
     time_.push_back(t);
     mass_history_.push_back(mass_);
@@ -197,7 +207,9 @@ std::unique_ptr<Observer> make_discharge_observer(const DemSystem& system) {
 }
 
 std::string discharge_observer_needs(const Scene& scene) {
-  return scene.segments.empty() ? "walls (a floor with an orifice: its plane counts the discharge)" : "";
+  return std::isnan(find_orifice(scene.segments).width)
+             ? "a floor with an orifice (a gap between wall segments at the lowest wall height)"
+             : "";
 }
 
 }  // namespace kiln

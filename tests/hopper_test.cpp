@@ -95,8 +95,12 @@ TEST_CASE("discharge observer counts every pass of a disc through the floor's pl
   // Without the period it passes once and keeps falling.
   s = run_scene(parse_scene(falling_disc, "pass.yaml", {"periodic=null"}), {"", true});
   CHECK(s["discharged_count"] == 1);
-  // A scene without walls has no floor to pass: refused when read.
-  CHECK_THROWS_WITH(parse_scene(falling_disc, "pass.yaml", {"walls=null"}), Catch::Contains("'discharge' needs walls"));
+  // A scene without walls has no floor to pass, a drum no orifice: both refused when read.
+  CHECK_THROWS_WITH(parse_scene(falling_disc, "pass.yaml", {"walls=null"}),
+                    Catch::Contains("'discharge' needs a floor with an orifice"));
+  const std::string drum = testing::case_text("t6_drum.yaml") + "\nreport: [discharge]\n";
+  CHECK_THROWS_WITH(parse_scene(testing::replaced(drum, "report: [temperatures, mixing]\n", ""), "drum.yaml"),
+                    Catch::Contains("'discharge' needs a floor with an orifice"));
 }
 
 TEST_CASE("discharge observer goes on from a checkpoint as if never stopped", "[hopper][checkpoint]") {
