@@ -254,9 +254,6 @@ void RunOutputs::frame(double t, const double* y) {
   times_.push_back(t);
 }
 
-namespace {
-
-// The picture's second line: why the run ended where it did, after how many steps of what.
 std::string how_it_ended(const nlohmann::json& summary) {
   std::ostringstream s;
   const nlohmann::json& stopped = summary.value("stopped_early", nlohmann::json(false));
@@ -269,11 +266,20 @@ std::string how_it_ended(const nlohmann::json& summary) {
   } else {
     s << "reached t_end";
   }
-  s << "; " << summary.value("steps", 0L) << " steps of " << summary.value("integrator", std::string("?"));
+  const long steps = summary.value("steps", 0L);
+  const nlohmann::json heat = summary.contains("integrator_stats")
+                                  ? summary["integrator_stats"].value("heat_stage", nlohmann::json())
+                                  : nlohmann::json();
+  if (heat.is_object() && heat.contains("steps")) {  // settled, then heat alone with its own integrator
+    const long heat_steps = heat["steps"].get<long>();
+    s << "; " << steps - heat_steps << " steps of " << summary.value("integrator", std::string("?")) << ", then "
+      << heat_steps << " of " << heat.value("integrator", std::string("?")) << " (heat alone)";
+  } else {
+    s << "; " << steps << " steps of " << summary.value("integrator", std::string("?"));
+  }
   return s.str();
 }
 
-}  // namespace
 
 PictureInput RunOutputs::picture(double t, const double* y, const std::string& title) const {
   PictureInput pic;

@@ -36,6 +36,9 @@ ResultLayout result_layout(const DemSystem& sys);
 // Whether result.h5 records the wall segments of every frame: some wall can move. (A wall whose
 // position a later kind of motion takes from the state moves too: only this predicate changes.)
 bool walls_move(const DemSystem& sys);
+// The picture's second line from a run's summary: how the run ended (t_end, at rest, frozen, a
+// signal), and its steps with the integrator of each stage.
+std::string how_it_ended(const nlohmann::json& summary);
 
 class RunOutputs {
  public:

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "src/colour_scale.h"
+#include "src/run_outputs.h"
 
 // One fast disc among 300 at rest: the scale spans the resting discs' speeds, the fast one is
 // clipped at the top (before, it took the whole bar and the heap was one colour).
@@ -58,4 +59,16 @@ TEST_CASE("colour bar ends show the digits that tell them apart, and round-off z
   CHECK(kiln::scale_label(100, 100) == "100");
   CHECK(kiln::scale_label(0.0484, 1.73) == "0.0484");
   CHECK(kiln::scale_label(-2.5, 5) == "-2.5");
+}
+
+TEST_CASE("the picture's subtitle names the steps of each stage: settling, then heat alone", "[picture]") {
+  const nlohmann::json settled_then_heated = {
+      {"steps", 50360},
+      {"integrator", "velocity-verlet"},
+      {"frozen_at", 0.5},
+      {"integrator_stats", {{"heat_stage", {{"steps", 360}, {"integrator", "imex1"}}}}}};
+  CHECK(kiln::how_it_ended(settled_then_heated) ==
+        "mechanics frozen at 0.5 s, heat to t_end; 50000 steps of velocity-verlet, then 360 of imex1 (heat alone)");
+  const nlohmann::json plain = {{"steps", 100}, {"integrator", "erk4"}};
+  CHECK(kiln::how_it_ended(plain) == "reached t_end; 100 steps of erk4");
 }
