@@ -44,19 +44,17 @@ class ImpactObserver final : public Observer {
     for (int p = 0; p < candidates.size(); ++p) {
       const int i = candidates.i[p], s = candidates.j[p];
       if (sys_.attached(i)) continue;
-      const Vec2 ab = b_[s] - a_[s];
+      // The contact rule of the force stage (a shared vertex belongs to one segment).
       const Vec2 c = sys_.cell().image_near({px[i], py[i]}, 0.5 * (a_[s] + b_[s]));
-      const double along = std::clamp(dot(c - a_[s], ab) / dot(ab, ab), 0.0, 1.0);
-      const Vec2 foot = a_[s] + along * ab;
-      const double gap = norm(c - foot);
-      if (gap >= sys_.radius(i) || gap == 0) continue;
+      WallHit hit;
+      if (!disc_segment_contact(sys_.scene().segments, a_, b_, s, c, sys_.radius(i), hit)) continue;
       const int w = sys_.scene().segments[s].wall;
       const size_t key = static_cast<size_t>(i) * walls_ + w;
       if (now_[key]) continue;  // one impact per wall, however many of its segments it touches
       now_[key] = 1;
       if (touching_[key]) continue;
-      const Vec2 normal = (1 / gap) * (c - foot);
-      const double approach = -dot(Vec2{vx[i], vy[i]} - sys_.wall_point_velocity(w, foot, t, y), normal);
+      // hit.normal points from the centre to the wall: the approach speed is along it.
+      const double approach = dot(Vec2{vx[i], vy[i]} - sys_.wall_point_velocity(w, hit.closest, t, y), hit.normal);
       if (approach <= 0) continue;  // arrived by sliding in or moving away: no blow
       book(w, 0.5 * sys_.mass(i) * approach * approach);
     }
