@@ -18,6 +18,7 @@
 #include "src/progress.h"
 #include "src/scene_yaml.h"
 #include "src/simulation.h"
+#include "src/subprocess.h"
 
 namespace kiln {
 
@@ -173,11 +174,11 @@ void write_study(const std::string& dir, const std::string& name, const nlohmann
   const std::string base = dir + "/" + name;
   write_file_atomically(base + ".json", study.dump(2) + "\n");
   write_file_atomically(base + ".csv", csv);
-  const std::string cmd = "/usr/bin/python3 " + std::string(KILN_SCRIPTS_DIR) + "/plot_study.py " + name + " " +
-                          base + ".json " + base + ".png";
-  if (std::system(cmd.c_str()) != 0)
-    std::fprintf(stderr, "warning: %s.png not written (needs /usr/bin/python3 with matplotlib: apt-get install "
-                         "python3-matplotlib)\n", name.c_str());
+  const ProgramResult plot = run_program(
+      {"/usr/bin/python3", std::string(KILN_SCRIPTS_DIR) + "/plot_study.py", name, base + ".json", base + ".png"});
+  if (plot.status != 0)
+    std::fprintf(stderr, "%swarning: %s.png not written (needs /usr/bin/python3 with matplotlib: apt-get install "
+                         "python3-matplotlib)\n", plot.errors.c_str(), name.c_str());
 }
 
 }  // namespace kiln

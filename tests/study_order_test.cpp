@@ -2,6 +2,7 @@
 // results do not depend on the number of threads.
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <filesystem>
 
 #include "src/error.h"
 #include "src/overrides.h"
@@ -197,4 +198,14 @@ TEST_CASE("an order fit below nominal whose halvings still rise to it is called 
   const auto study = run_order_study(harmonic("erk4", 2e-4, 4));
   CHECK(fitted(study) < 3.8);
   CHECK(study["integrators"][0]["verdict"].get<std::string>().rfind("pre-asymptotic", 0) == 0);
+}
+
+TEST_CASE("a study writes its JSON, CSV and plot into a directory whose path has a space and a quote", "[study]") {
+  // The plot script runs without a shell: the path reaches it as it is.
+  const std::filesystem::path dir = testing::fresh_dir("study with 'odd' path");
+  OrderOptions o = harmonic("velocity-verlet", 1e-4, 2);
+  o.out_dir = dir.string();
+  run_order_study(o);
+  for (const char* file : {"order.json", "order.csv", "order.png"}) CHECK(std::filesystem::exists(dir / file));
+  std::filesystem::remove_all(dir);
 }
