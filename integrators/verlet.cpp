@@ -33,15 +33,16 @@ void BasicVerlet::step() {
     eval_[k] = ahead_[k];
     eval_[nq + k] = (ahead_[k] - q[k]) / h;
   }
+  // works: trapezoidal forces times the displacement x_{n+1} - x_n = h eval_v
+  if (works_ > 0) work_before(eval_.data() + nq, h);
   std::copy_n(z, nz, z_before_.data());
   for (int k = 0; k < nz; ++k) z[k] += h * zrate_[k];
   std::copy_n(z, nz, eval_.data() + 2 * nq);
   const double t_next = next_time();
   evaluate(t_next, eval_.data(), 0);
-
-  if (works_ > 0) {  // works: trapezoidal forces times the displacement x_{n+1} - x_n
-    for (int k = 0; k < nq; ++k) eval_[k] = ahead_[k] - q[k];
-    book_work(z_before_.data(), eval_.data(), h, 0.0);
+  if (works_ > 0) {
+    work_after(eval_.data() + nq, eval_.data() + nq, h);
+    book_work(z_before_.data(), h, 0.0);
   }
   const double* a = accel();
   for (int k = 0; k < nq; ++k) {

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "integrators/integrator.h"
+#include "src/parallel.h"
 
 namespace kiln {
 
@@ -17,10 +18,7 @@ class VerletFamily : public Integrator {
     s.put(p + "time", {t_, t0_, dt_});
     s.put_integer(p + "count", count_);
     s.put(p + "rate", rate_);
-    s.put(p + "work_force", work_force_);
-    s.put(p + "work_force_old", work_force_old_);
     s.put(p + "work_rest", work_rest_);
-    s.put(p + "work_rest_old", work_rest_old_);
     save_carried(s, p);
   }
   void resume(OdeSystem& system, double* y, double dt, const Snapshot& s, const std::string& p) override {
@@ -31,10 +29,7 @@ class VerletFamily : public Integrator {
     count_ = s.integer(p + "count");
     stats_.last_step = dt_;
     rate_ = s.reals(p + "rate");
-    work_force_ = s.reals(p + "work_force");
-    work_force_old_ = s.reals(p + "work_force_old");
     work_rest_ = s.reals(p + "work_rest");
-    work_rest_old_ = s.reals(p + "work_rest_old");
     resume_carried(s, p);
   }
 
@@ -68,18 +63,16 @@ class VerletFamily : public Integrator {
     rate_.assign(layout_.size(), 0);
     const double* g = nullptr;
     works_ = system.work_components(&g);
-    work_force_.assign(works_ * layout_.nq, 0.0);
-    work_force_old_ = work_force_;
     work_rest_.assign(works_, 0.0);
     work_rest_old_ = work_rest_;
+    along_old_ = along_new_ = work_rest_;
   }
   // Binds the system and the live state, and evaluates f(t0, y) into rate_.
   void bind(OdeSystem& system, double t0, double* y, double dt) {
     start_without_evaluating(system, y, dt);
     t_ = t0_ = t0;
     evaluate(t0, y, dt);
-    work_force_old_ = work_force_;
-    work_rest_old_ = work_rest_;
+    if (works_ > 0) work_after(y + layout_.nq, nullptr, 0);
   }
   // rate_ = f(t, state) with the neighbour lists prepared for it; the step is then accepted.
   void evaluate(double t, const double* state, double lookahead) {
@@ -87,29 +80,48 @@ class VerletFamily : public Integrator {
     system_->derivative(t, state, rate_.data());
     system_->accept(t);
     ++stats_.rhs_evals;
-    if (works_ == 0) return;
-    const int nq = layout_.nq;
+  }
+  // The works are booked from the system's work forces g (which stay in the system: no copies)
+  // along the step's displacement scale * dir: before the step's evaluation with g of the
+  // previous one, after it with the new g. Sums in fixed blocks (parallel.h).
+  void work_before(const double* dir, double scale) {
+    const int nq = layout_.nq, works = works_;
     const double* g = nullptr;
     system_->work_components(&g);
-    work_force_old_.swap(work_force_);
+    const auto s = fixed_order_sums<3>(nq, sums3_, [&](int begin, int end, double* out) {
+      for (int c = 0; c < works; ++c) add_dot(g + c * nq, dir, begin, end, out[c]);
+    });
+    for (int c = 0; c < works; ++c) along_old_[c] = scale * s[c];
+  }
+  // After an evaluation at velocities v: what of each work rate is not g . v (e.g. moving walls'
+  // part), booked by the z rule; and (dir non-null) the new g along the displacement (one sum
+  // when dir is v).
+  void work_after(const double* v, const double* dir, double scale) {
+    const int nq = layout_.nq, works = works_;
+    const double* g = nullptr;
+    system_->work_components(&g);
+    const bool both = dir && dir != v;
+    auto s = fixed_order_sums<6>(nq, sums6_, [&](int begin, int end, double* out) {
+      for (int c = 0; c < works; ++c) {
+        add_dot(g + c * nq, v, begin, end, out[c]);
+        if (both) add_dot(g + c * nq, dir, begin, end, out[3 + c]);
+      }
+    });
+    if (!both)
+      for (int c = 0; c < 3; ++c) s[3 + c] = dir ? s[c] : 0.0;
     work_rest_old_.swap(work_rest_);
-    std::copy_n(g, works_ * nq, work_force_.data());
-    // What of each work rate is not g . v (e.g. moving walls' part): booked by the z rule.
-    for (int c = 0; c < works_; ++c) {
-      double linear = 0;
-      for (int k = 0; k < nq; ++k) linear += g[c * nq + k] * state[nq + k];
-      work_rest_[c] = rate_[2 * nq + c] - linear;
+    for (int c = 0; c < works; ++c) {
+      work_rest_[c] = rate_[2 * nq + c] - s[c];
+      along_new_[c] = scale * s[3 + c];
     }
   }
-  // Sets the work components of z at the step's end: `before` their values at its start, dq the
-  // step's displacement, rest_weight_old/new the z rule's weights (times dt) for the rest.
-  void book_work(const double* before, const double* dq, double rest_weight_old, double rest_weight_new) {
-    const int nq = layout_.nq;
-    for (int c = 0; c < works_; ++c) {
-      double w = 0;
-      for (int k = 0; k < nq; ++k) w += 0.5 * (work_force_old_[c * nq + k] + work_force_[c * nq + k]) * dq[k];
-      z()[c] = before[c] + w + rest_weight_old * work_rest_old_[c] + rest_weight_new * work_rest_[c];
-    }
+  // Sets the work components of z at the step's end: `before` their values at its start,
+  // rest_weight_old/new the z rule's weights (times dt) for the rest: the trapezoid
+  // 1/2 (g_n + g_n+1) . (q_n+1 - q_n) plus the rest.
+  void book_work(const double* before, double rest_weight_old, double rest_weight_new) {
+    for (int c = 0; c < works_; ++c)
+      z()[c] = before[c] + 0.5 * (along_old_[c] + along_new_[c]) + rest_weight_old * work_rest_old_[c] +
+               rest_weight_new * work_rest_[c];
   }
 
   // Views of the live state y = [q | v | z] and of the latest rates [v | a | dz/dt].
@@ -126,11 +138,13 @@ class VerletFamily : public Integrator {
   double stop_ = INFINITY;
   long count_ = 0;
   std::vector<double> rate_;  // f at the latest evaluation
-  // The system's work components of z, their generalized forces at the latest and the previous
-  // evaluation, and the rest of their rates there.
+  // The system's work components of z: the rest of their rates at the latest and the previous
+  // evaluation, and the step's displacement on the previous and the latest work forces.
   int works_ = 0;
-  std::vector<double> work_force_, work_force_old_;
   std::vector<double> work_rest_, work_rest_old_;
+  std::vector<double> along_old_, along_new_;
+  std::vector<std::array<double, 3>> sums3_;  // scratch of the fixed-order sums
+  std::vector<std::array<double, 6>> sums6_;
 };
 
 }  // namespace kiln

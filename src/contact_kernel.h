@@ -97,19 +97,4 @@ inline contact::RollingLaw DemSystem::rolling_law(const ContactCoefficients& lf,
   return f;
 }
 
-// The dissipation that becomes heat, shared by beta (Nguyen et al. 2009, eq. 1:
-// m c_p dT/dt = sum_j (H (T_j - T_i) + E_f / (2 dt))); conduction is added by its own stage.
-// Friction heat is booked as the work of friction on the relative motion: what a spring holds
-// for a while is heat-to-be, subtracted again in energy() (see the header). A wall keeps its share.
-inline void DemSystem::make_heat(Evaluation& e, double work_rate, double damping_power, int i, int j,
-                                 double share) const {
-  const double generated = heat_power_factor_friction_ * work_rate + heat_power_factor_damping_ * damping_power;
-  e.heat[i] += share * generated;
-  e.heat_generated += share * generated;
-  if (j >= 0) {
-    e.heat[j] += (1 - share) * generated;
-    e.heat_generated += (1 - share) * generated;
-  }
-}
-
 }  // namespace kiln

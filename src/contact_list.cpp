@@ -2,7 +2,7 @@
 
 namespace kiln {
 
-void ContactList::replace(const std::vector<CandidatePair>& fresh) {
+void ContactList::replace(const std::vector<CandidatePair>& fresh, int particles, bool pairs) {
   const size_t n = fresh.size();
   std::vector<uint8_t> kept_active(n, 2);
   std::vector<double> kept_spring(history ? n : 0, 0.0), kept_roll(history ? n : 0, 0.0);
@@ -36,6 +36,23 @@ void ContactList::replace(const std::vector<CandidatePair>& fresh) {
   k.resize(n);
   c.resize(n);
   law.resize(n);
+  index(particles, pairs);
+}
+
+void ContactList::index(int particles, bool pairs) {
+  const size_t n = i.size();
+  rows.resize(n);
+  // Where each particle's rows are: counting sorts by i (already in order) and by j.
+  by_i.assign(particles + 1, 0);
+  for (size_t p = 0; p < n; ++p) ++by_i[i[p] + 1];
+  for (int q = 0; q < particles; ++q) by_i[q + 1] += by_i[q];
+  by_j.assign(pairs ? particles + 1 : 0, 0);
+  by_j_rows.resize(pairs ? n : 0);
+  if (!pairs) return;
+  for (size_t p = 0; p < n; ++p) ++by_j[j[p] + 1];
+  for (int q = 0; q < particles; ++q) by_j[q + 1] += by_j[q];
+  std::vector<int> next(by_j.begin(), by_j.end() - 1);
+  for (size_t p = 0; p < n; ++p) by_j_rows[next[j[p]]++] = static_cast<int>(p);
 }
 
 namespace {

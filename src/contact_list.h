@@ -12,6 +12,22 @@
 
 namespace kiln {
 
+// What one contact did at the latest evaluation, written by that contact alone: threads never
+// write the same memory, and each particle then sums the rows it is in, in a fixed order, so
+// results do not depend on the number of threads. A contact not touching has a row of zeros.
+// Particle j of a pair gets minus the forces and work forces, and torque_j.
+struct ContactRow {
+  double fx = 0, fy = 0;              // contact force on i (N)
+  double torque_i = 0, torque_j = 0;  // contact torques on i and on j (N m)
+  double gx = 0, gy = 0;              // friction's work force on i: F_t (n_y, -n_x) (N)
+  double dx = 0, dy = 0;              // the dashpot's work force on i: F_dashpot n (N)
+};
+// Heat rows of a thermal scene: the heat that reaches i and j through the contact (W), made by
+// its dissipation or (full evaluations) conducted.
+struct HeatRow {
+  double to_i = 0, to_j = 0;
+};
+
 struct ContactList {
   std::vector<int> i, j;        // particle i; particle j (i < j) or segment j
   std::vector<double> k, c;     // normal law coefficients for this pair (k_t, c_t are fixed ratios)
@@ -25,9 +41,19 @@ struct ContactList {
   std::vector<double> roll, trial_roll;         // rolling spring angle (rad)
   std::vector<contact::ContactFrame> frame, trial_frame;
 
+  // Rows of the latest evaluation (one per candidate), and where each particle finds its rows:
+  // those where it is i are the range [by_i[k], by_i[k + 1]) (the list is sorted by i); for a
+  // particle list, those where it is j are by_j_rows[by_j[k] .. by_j[k + 1]), in ascending order.
+  std::vector<ContactRow> rows;
+  std::vector<HeatRow> heat_rows;
+  std::vector<int> by_i, by_j, by_j_rows;
+
   int size() const { return static_cast<int>(i.size()); }
-  // Takes the sorted candidate pairs; pairs present before keep their committed history.
-  void replace(const std::vector<CandidatePair>& fresh);
+  // Takes the sorted candidate pairs of `particles` particles; pairs present before keep their
+  // committed history. `pairs`: j is a particle (indexed by_j too), not a wall segment.
+  void replace(const std::vector<CandidatePair>& fresh, int particles, bool pairs);
+  // Sizes the rows and finds each particle's rows (after replace() or restore()).
+  void index(int particles, bool pairs);
   // Checkpoints: the pairs, their coefficients and their history, under keys starting with `prefix`.
   void save(Snapshot& s, const std::string& prefix) const;
   void restore(const Snapshot& s, const std::string& prefix);

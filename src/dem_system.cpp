@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "src/error.h"
+#include "src/parallel.h"
 #include "src/wall_geometry.h"
 
 namespace kiln {
@@ -97,6 +98,8 @@ DemSystem::DemSystem(const Scene& scene)
     if (scene.attached[i] != Scene::free_particle) attached_list_.push_back(i);
   has_attached_ = !attached_list_.empty();
   works_ = bodies() || has_attached_ ? 3 : 2;
+  // Entries no stage writes (the dashpots' torques, the bodies' coordinates) stay 0.
+  work_force_.assign(works_ * layout_.nq, 0.0);
   x_ref_.resize(n_);
   y_ref_.resize(n_);
   wall_loads_.resize(scene.walls.size());
@@ -197,6 +200,12 @@ void DemSystem::restore(const Snapshot& s) {
   body_ref_ = s.reals("system.body_reference");
   if (static_cast<int>(x_ref_.size()) != n_ || pp_.k.size() != pp_.i.size() || pw_.k.size() != pw_.i.size())
     throw InputError("the checkpoint's contact lists do not fit this scene's " + std::to_string(n_) + " particles");
+  auto within = [](const std::vector<int>& v, int n) { return std::all_of(v.begin(), v.end(), [n](int k) { return k >= 0 && k < n; }); };
+  if (!within(pp_.i, n_) || !within(pp_.j, n_) || !within(pw_.i, n_) ||
+      !within(pw_.j, static_cast<int>(scene_.segments.size())))
+    throw InputError("the checkpoint's contacts name particles or wall segments this scene does not have");
+  pp_.index(n_, true);
+  pw_.index(n_, false);
 }
 
 void DemSystem::accept(double) {
@@ -215,9 +224,11 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
     return;
   }
   Evaluation e = begin_evaluation(t, y, ydot);
+  e.conduct = thermal_ && part == Part::all;
   particle_contact_forces(e);
   wall_contact_forces(e);
-  if (e.heat && part == Part::all) e.heat_walls = conduct(t, y, y + temperature_at(), e.heat, true);
+  rows_to_particles(e);
+  if (e.conduct) e.heat_walls = conduct_walls(t, y, y + temperature_at(), e.heat, true);
   if (has_attached_ || bodies()) {
     const StageTimer timer(profile_, Stage::wall_contacts);  // what the walls' particles and bodies do
     if (has_attached_) attached_particles(e);
@@ -227,11 +238,11 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
   close_ledger(e, ydot);
 }
 
-// dq/dt = v; forces, torques, heat and work forces zeroed.
+// dq/dt = v; the work forces of the walls' ledger zeroed (the contact stages and
+// rows_to_particles() write every force, torque, heat and other work force).
 DemSystem::Evaluation DemSystem::begin_evaluation(double t, const double* y, double* ydot) {
   const int nq = layout_.nq;
   std::copy_n(y + nq, nq, ydot);
-  std::fill_n(ydot + nq, nq, 0.0);
   Evaluation e;
   e.t = t;
   e.state = y;
@@ -246,14 +257,13 @@ DemSystem::Evaluation DemSystem::begin_evaluation(double t, const double* y, dou
   e.torque = rotates_ ? ydot + omega_at() : nullptr;
   // Heat (thermal scenes only): dissipation turned to heat by the contact stages; conduction
   // (the implicit part under IMEX) by its own.
-  if (thermal_) {
-    e.heat = ydot + temperature_at();
-    std::fill_n(e.heat, n_, 0.0);
-  }
-  work_force_.assign(works_ * nq, 0.0);
+  if (thermal_) e.heat = ydot + temperature_at();
   e.gd = work_force_.data();
   e.g = e.gd + nq;
-  if (works_ == 3) e.gw = e.gd + 2 * nq;
+  if (works_ == 3) {
+    e.gw = e.gd + 2 * nq;
+    std::fill_n(e.gw, nq, 0.0);
+  }
   if (pp_.history) {
     std::copy_n(e.angle, n_, trial_angle_.data());
     trial_time_ = t;
@@ -263,14 +273,13 @@ DemSystem::Evaluation DemSystem::begin_evaluation(double t, const double* y, dou
 
 void DemSystem::accelerations(Evaluation& e) {
   const double gx = scene_.gravity.x, gy = scene_.gravity.y;
+#pragma omp parallel for schedule(static) if (parallel_worthwhile(n_))
   for (int i = 0; i < n_; ++i) {
     e.fx[i] = e.fx[i] * inv_mass_[i] + gx;
     e.fy[i] = e.fy[i] * inv_mass_[i] + gy;
+    if (e.torque) e.torque[i] *= inv_inertia_[i];
+    if (e.heat) e.heat[i] *= inv_capacity_[i];
   }
-  if (e.torque)
-    for (int i = 0; i < n_; ++i) e.torque[i] *= inv_inertia_[i];
-  if (e.heat)
-    for (int i = 0; i < n_; ++i) e.heat[i] *= inv_capacity_[i];
   // An attached particle follows its wall: no spin change, the wall's acceleration at its place
   // (a turning wall's centripetal one, a wall body's own).
   for (int i : attached_list_) {

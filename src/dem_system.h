@@ -63,7 +63,7 @@ class DemSystem final : public OdeSystem {
 
   StateLayout layout() const override { return layout_; }
   void prepare(double t, const double* y, double lookahead) override;
-  bool neighbours_cover(double t, const double* y) const override;
+  bool neighbours_cover(double t, const double* y, double lookahead = 0) const override;
   void rebuild_neighbours(double t, const double* y, double t_reached, const double* reached) override;
   double neighbour_step_bound(const double* y) const override;
   std::string describe_travel(const double* from, const double* to, double h) const override;
@@ -184,13 +184,27 @@ class DemSystem final : public OdeSystem {
     double *gd = nullptr, *g = nullptr;          // work forces of the damping and friction ledgers
     double* gw = nullptr;                        // ... and of the walls' (wall bodies, attached particles)
     double damping = 0, friction_work = 0, walls_work = 0, heat_generated = 0, heat_walls = 0;
-    double worst = 0;  // largest overlap / radius
+    double worst = 0;     // largest overlap / radius
+    bool conduct = false;  // a thermal scene's full evaluation: conduction goes with the contacts
   };
+  // What a block of particle contacts adds to the evaluation's sums (parallel.h).
+  struct BlockSums {
+    double damping = 0, friction_work = 0, heat_generated = 0, worst = 0;
+  };
+  void add_block_sums(Evaluation& e) const {
+    for (const BlockSums& b : block_sums_) {
+      e.damping += b.damping;
+      e.friction_work += b.friction_work;
+      e.heat_generated += b.heat_generated;
+      e.worst = std::max(e.worst, b.worst);
+    }
+  }
   void evaluate(double t, const double* y, double* ydot, Part part, const double* temps);
   // The stages of an evaluation (each in a file of its own).
   Evaluation begin_evaluation(double t, const double* y, double* ydot);
   void particle_contact_forces(Evaluation& e);  // stage_particle_contacts.cpp
   void wall_contact_forces(Evaluation& e);      // stage_wall_contacts.cpp
+  void rows_to_particles(Evaluation& e);        // stage_contact_sums.cpp
   void attached_particles(Evaluation& e);       // what pushes them pushes their walls
   void wall_bodies(Evaluation& e, double* ydot);  // load-controlled walls under their loads
   void accelerations(Evaluation& e);            // forces to accelerations, gravity
@@ -257,13 +271,20 @@ class DemSystem final : public OdeSystem {
   contact::RollingLaw rolling_law(const ContactCoefficients& lf, const contact::NormalLaw& nl, double overlap,
                                   const PairMasses& pm, double normal) const;
   static void forget(ContactList& list, int p);  // not touching: no history
-  void make_heat(Evaluation& e, double work_rate, double damping_power, int i, int j, double share) const;
+  // The heat a contact's dissipation makes (W): its friction work, and its damping where the
+  // scene says so (Nguyen et al. 2009, eq. 1: m c_p dT/dt = sum_j (H (T_j - T_i) + E_f / (2 dt))).
+  // Friction heat is booked as the work of friction on the relative motion: what a spring holds
+  // for a while is heat-to-be, subtracted again in energy() (see the header).
+  double heat_made(double work_rate, double damping_power) const {
+    return heat_power_factor_friction_ * work_rate + heat_power_factor_damping_ * damping_power;
+  }
 
   // Conduction (stage_conduction.cpp).
   double pair_conductance(const double* px, const double* py, int p) const;
   double wall_conductance(const double* px, const double* py, const std::vector<Vec2>& a, const std::vector<Vec2>& b,
                           int p, int& wall) const;
   double conduct(double t, const double* y, const double* temp, double* heat, bool wall_sources) const;
+  double conduct_walls(double t, const double* y, const double* temp, double* heat, bool wall_sources) const;
 
   const Scene& scene_;
   const PeriodicCell& cell_;
@@ -293,6 +314,7 @@ class DemSystem final : public OdeSystem {
   std::vector<double> committed_angle_, trial_angle_;
   double committed_time_ = 0, trial_time_ = 0;
   std::vector<double> work_force_;  // see work_components(), from the latest evaluation
+  std::vector<BlockSums> block_sums_;  // the particle contacts stage's, per block
   int works_ = 2;
   double max_overlap_fraction_ = 0;
   std::vector<WallLoad> wall_loads_;

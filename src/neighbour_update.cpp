@@ -60,7 +60,9 @@ std::string DemSystem::describe_travel(const double* from, const double* to, dou
   return s.str();
 }
 
-bool DemSystem::neighbours_cover(double t, const double* y) const { return built_ && covers(t, y, 0); }
+bool DemSystem::neighbours_cover(double t, const double* y, double lookahead) const {
+  return built_ && covers(t, y, lookahead);
+}
 
 // Verlet-list criterion: no pair can have closed a gap of one skin since the last rebuild if
 // every particle moved less than half a skin (and a particle plus its wall less than a skin).
@@ -108,11 +110,11 @@ void DemSystem::rebuild(double t, const double* y, double skin) {
     ty = wrapped_y_.data();
   }
   broadphase_.particle_pairs(tx, ty, radius_.data(), n_, cell_, candidates_);
-  pp_.replace(candidates_);
+  pp_.replace(candidates_, n_, true);
   set_coefficients(pp_, false);
   update_walls(t, y);
   broadphase_.wall_pairs(tx, ty, radius_.data(), n_, seg_a_, seg_b_, cell_, candidates_);
-  pw_.replace(candidates_);
+  pw_.replace(candidates_, n_, false);
   set_coefficients(pw_, true);
   if (events_) lock_contacts(t, y, nullptr);
   if (pp_.history) {

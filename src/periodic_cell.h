@@ -18,9 +18,11 @@ struct PeriodicCell {
   double length_x() const { return x1 - x0; }
   double length_y() const { return y1 - y0; }
   // The separation d = p_j - p_i of the nearest images (exact when |d| < 3/2 L along a periodic axis).
+  // Within half a period nothing is shifted (nearbyint would give 0): the division and the call
+  // are skipped for nearly every pair of the contact loop.
   Vec2 minimum_image(double dx, double dy) const {
-    if (x) dx -= length_x() * std::nearbyint(dx / length_x());
-    if (y) dy -= length_y() * std::nearbyint(dy / length_y());
+    if (x && std::abs(dx) > 0.5 * length_x()) dx -= length_x() * std::nearbyint(dx / length_x());
+    if (y && std::abs(dy) > 0.5 * length_y()) dy -= length_y() * std::nearbyint(dy / length_y());
     return {dx, dy};
   }
   // The image of p nearest the point `near`: where p meets a wall segment (near its middle).

@@ -47,6 +47,12 @@ double DemSystem::conduct(double t, const double* y, const double* temp, double*
     heat[i] += q;
     heat[j] -= q;
   }
+  return conduct_walls(t, y, temp, heat, wall_sources);
+}
+
+// The walls' part of conduct(): heat[i] += sum_w H_iw (T_w - T_i); returns the heat the walls give.
+double DemSystem::conduct_walls(double t, const double* y, const double* temp, double* heat, bool wall_sources) const {
+  const double *px = y + x_at(), *py = y + y_at();
   double heat_walls = 0;
   for (int p = 0, np = pw_.size(); p < np; ++p) {
     int wall = 0;

@@ -3,7 +3,9 @@
 // the kernel. The contact point is at the disc's lever arm, its full radius: the wall's velocity
 // there enters the relative velocity, and the work the wall does on the particle is F . u_wall
 // plus the rolling couple times the wall's spin. What the particles do to each wall (force,
-// torque about its centre, power delivered) is summed into its load.
+// torque about its centre, power delivered) is summed into its load. Wall contacts are few
+// (a surface's worth): the stage runs on one thread and writes rows (ContactRow) as the particle
+// stage does, for rows_to_particles() to sum.
 #include "src/contact_kernel.h"
 
 namespace kiln {
@@ -13,6 +15,8 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
   if (moving_walls_) update_walls(e.t, e.state);
   const bool history = pp_.history;
   for (WallLoad& load : wall_loads_) load = {};
+  const bool thermal = e.heat != nullptr;
+  if (thermal) pw_.heat_rows.resize(pw_.size());
   for (int p = 0, np = pw_.size(); p < np; ++p) {
     const int i = pw_.i[p], sgi = pw_.j[p];
     const double r = radius_[i];
@@ -20,6 +24,8 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     // An attached particle is part of a wall: walls do not touch walls.
     if ((events_ && !pw_.active[p]) || attached(i) || !wall_hit(e.x, e.y, seg_a_, seg_b_, i, sgi, hit, events_)) {
       if (history) forget(pw_, p);
+      pw_.rows[p] = {};
+      if (thermal) pw_.heat_rows[p] = {};
       continue;
     }
     const Vec2 n = hit.normal;
@@ -44,18 +50,17 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
       c.spun_other = wall_spin * (e.t - committed_time_);
     }
     const ContactForces f = contact(pw_, p, c);
-    e.fx[i] += f.fx;
-    e.fy[i] += f.fy;
     const double power = f.fx * u.x + f.fy * u.y + f.couple * wall_spin;
-    if (history) {
-      e.torque[i] += r * f.tangential + f.couple;
-      // work_rate = -F_t ((v_i - u) . t + r w_i) - M (w_i - wall spin): the u and spin parts are no g
-      e.g[i] += f.tangential * n.y;
-      e.g[n_ + i] -= f.tangential * n.x;
-      e.g[2 * n_ + i] -= r * f.tangential + f.couple;
-    }
-    e.gd[i] += f.dashpot * n.x;
-    e.gd[n_ + i] += f.dashpot * n.y;
+    ContactRow& row = pw_.rows[p];
+    row.fx = f.fx;
+    row.fy = f.fy;
+    // work_rate = -F_t ((v_i - u) . t + r w_i) - M (w_i - wall spin): the u and spin parts are no g
+    row.torque_i = r * f.tangential + f.couple;
+    row.torque_j = 0;
+    row.gx = f.tangential * n.y;
+    row.gy = -f.tangential * n.x;
+    row.dx = f.dashpot * n.x;
+    row.dy = f.dashpot * n.y;
     e.damping += f.damping_power;
     e.friction_work += f.work_rate;
     e.walls_work += power;
@@ -65,7 +70,11 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     load.force = load.force - Vec2{f.fx, f.fy};
     load.torque += cross(point - wall_centre_[wall], Vec2{-f.fx, -f.fy}) - f.couple;
     load.power += power;
-    if (e.heat) make_heat(e, f.work_rate, f.damping_power, i, -1, laws_[pw_.law[p]].heat_share);
+    if (thermal) {  // the wall keeps its share
+      const double made = laws_[pw_.law[p]].heat_share * heat_made(f.work_rate, f.damping_power);
+      pw_.heat_rows[p] = {made, 0.0};
+      e.heat_generated += made;
+    }
     e.worst = std::max(e.worst, hit.overlap * inv_radius_[i]);
   }
 }
