@@ -119,6 +119,10 @@ class OdeSystem {
   virtual void implicit_jacobian_times(double, const double*, const double*, double* jv) {
     std::fill_n(jv, layout().size(), 0.0);
   }
+  // jv's first-order block (z) = (d f_I / d y) v at the state of the latest derivative() (the
+  // implicit part's Jacobian there, from what that evaluation kept: no geometry again); the rest
+  // of jv is not touched. False when the system cannot (then implicit_jacobian_times applies).
+  virtual bool latest_implicit_jacobian_times(const double*, double*) { return false; }
   // The implicit Jacobian as a diffusion operator (see DiffusionJacobian), at (t, y); false when
   // the implicit part has no such form (then only the matrix-free solver applies).
   virtual bool diffusion_jacobian(double /*t*/, const double* /*y*/, DiffusionJacobian& /*out*/) const { return false; }

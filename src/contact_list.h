@@ -23,9 +23,10 @@ struct ContactRow {
   double dx = 0, dy = 0;              // the dashpot's work force on i: F_dashpot n (N)
 };
 // Heat rows of a thermal scene: the heat that reaches i and j through the contact (W), made by
-// its dissipation or (full evaluations) conducted.
+// its dissipation or (full evaluations) conducted, and (full evaluations) its conductance (W/K),
+// which gives conduction's Jacobian at that state without the geometry again.
 struct HeatRow {
-  double to_i = 0, to_j = 0;
+  double to_i = 0, to_j = 0, conductance = 0;
 };
 
 struct ContactList {

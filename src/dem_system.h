@@ -83,6 +83,7 @@ class DemSystem final : public OdeSystem {
   void implicit_jacobian_times(double t, const double* y, const double* v, double* jv) override {
     evaluate(t, y, jv, Part::jacobian, v + temperature_at());
   }
+  bool latest_implicit_jacobian_times(const double* v, double* jv) override;
   std::vector<double> absolute_tolerances(const StepControl& c) const override;
   // The damping and friction ledgers are works: their velocity-linear parts are minus the
   // dashpot forces, and minus the friction forces and rolling and friction torques, on the
@@ -284,7 +285,8 @@ class DemSystem final : public OdeSystem {
   double wall_conductance(const double* px, const double* py, const std::vector<Vec2>& a, const std::vector<Vec2>& b,
                           int p, int& wall) const;
   double conduct(double t, const double* y, const double* temp, double* heat, bool wall_sources) const;
-  double conduct_walls(double t, const double* y, const double* temp, double* heat, bool wall_sources) const;
+  double conduct_walls(double t, const double* y, const double* temp, double* heat, bool wall_sources,
+                       HeatRow* rows = nullptr) const;
 
   const Scene& scene_;
   const PeriodicCell& cell_;
@@ -315,6 +317,7 @@ class DemSystem final : public OdeSystem {
   double committed_time_ = 0, trial_time_ = 0;
   std::vector<double> work_force_;  // see work_components(), from the latest evaluation
   std::vector<BlockSums> block_sums_;  // the particle contacts stage's, per block
+  bool latest_conducted_ = false;      // the latest evaluation was full: its heat rows hold conductances
   int works_ = 2;
   double max_overlap_fraction_ = 0;
   std::vector<WallLoad> wall_loads_;

@@ -51,12 +51,15 @@ double DemSystem::conduct(double t, const double* y, const double* temp, double*
 }
 
 // The walls' part of conduct(): heat[i] += sum_w H_iw (T_w - T_i); returns the heat the walls give.
-double DemSystem::conduct_walls(double t, const double* y, const double* temp, double* heat, bool wall_sources) const {
+// With `rows`, each candidate's conductance goes to its heat row (0 when not touching).
+double DemSystem::conduct_walls(double t, const double* y, const double* temp, double* heat, bool wall_sources,
+                                HeatRow* rows) const {
   const double *px = y + x_at(), *py = y + y_at();
   double heat_walls = 0;
   for (int p = 0, np = pw_.size(); p < np; ++p) {
     int wall = 0;
     const double h = wall_conductance(px, py, seg_a_, seg_b_, p, wall);
+    if (rows) rows[p].conductance = h;
     if (h == 0) continue;
     const double q = h * ((wall_sources ? scene_.walls[wall].temperature.at(t) : 0.0) - temp[pw_.i[p]]);
     heat[pw_.i[p]] += q;
@@ -65,6 +68,30 @@ double DemSystem::conduct_walls(double t, const double* y, const double* temp, d
   return heat_walls;
 }
 
+
+// Conduction's Jacobian at the latest full evaluation, from the conductances it left in the heat
+// rows: jv's temperatures and heat-from-walls ledger entry (the rest of jv is not touched).
+bool DemSystem::latest_implicit_jacobian_times(const double* v, double* jv) {
+  if (!latest_conducted_) return false;
+  const double* temps = v + temperature_at();
+  double* heat = jv + temperature_at();
+  std::fill_n(heat, n_, 0.0);
+  for (int p = 0, np = pp_.size(); p < np; ++p) {
+    const int i = pp_.i[p], j = pp_.j[p];
+    const double q = pp_.heat_rows[p].conductance * (temps[j] - temps[i]);
+    heat[i] += q;
+    heat[j] -= q;
+  }
+  double heat_walls = 0;
+  for (int p = 0, np = pw_.size(); p < np; ++p) {
+    const double q = -pw_.heat_rows[p].conductance * temps[pw_.i[p]];
+    heat[pw_.i[p]] += q;
+    heat_walls += q;
+  }
+  for (int i = 0; i < n_; ++i) heat[i] *= inv_capacity_[i];
+  jv[ledger_at() + ledger_heat_walls] = heat_walls;
+  return true;
+}
 
 // Conduction's Jacobian: W the heat capacities, S the Laplacian of the contact conductances at
 // (t, y) with the wall conductances on its diagonal, and the heat-from-walls row -sum H_iw.

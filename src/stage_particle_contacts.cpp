@@ -46,8 +46,9 @@ void DemSystem::particle_contact_forces(Evaluation& e) {
         // Conductance with the elastic normal force: the dashpot does not widen the contact.
         const ContactCoefficients& lf = laws_[pp_.law[p]];
         const double elastic = contact::normal_force({pp_.k[p], pp_.c[p], lf.hertz, lf.tension}, overlap, 0.0);
-        const double q = thermal::conductance(lf.conduction, radius_[i], radius_[j], dist, elastic) * (temp[j] - temp[i]);
-        pp_.heat_rows[p] = {q, -q};
+        const double h = thermal::conductance(lf.conduction, radius_[i], radius_[j], dist, elastic);
+        const double q = h * (temp[j] - temp[i]);
+        pp_.heat_rows[p] = {q, -q, h};
         if (walls_both) continue;
       }
       const double inv_d = 1 / dist;

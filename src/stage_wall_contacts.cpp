@@ -72,7 +72,7 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     load.power += power;
     if (thermal) {  // the wall keeps its share
       const double made = laws_[pw_.law[p]].heat_share * heat_made(f.work_rate, f.damping_power);
-      pw_.heat_rows[p] = {made, 0.0};
+      pw_.heat_rows[p] = {made, 0.0, 0.0};
       e.heat_generated += made;
     }
     e.worst = std::max(e.worst, hit.overlap * inv_radius_[i]);
