@@ -22,6 +22,7 @@
 #include "src/stability.h"
 #include "src/stop_signal.h"
 #include "src/study_order.h"
+#include "src/study_ranks.h"
 #include "src/study_sweep.h"
 #include "src/study_wp.h"
 #include "src/subprocess.h"
@@ -380,10 +381,23 @@ int main(int argc, char** argv) {
   CLI::App* integrators_cmd = app.add_subcommand("integrators", "list the integrators with their orders");
   kiln::BenchOptions bench;
   CLI::App* bench_cmd = app.add_subcommand("bench", "particle-steps per second on the benchmark pile (../shared/BENCH.md)");
+  // The period must hold four of the largest diameters (2.4 mm): 4 columns of 2.5 mm.
   bench_cmd->add_option("--columns", bench.columns, "lattice columns: 50 rows x columns discs (20: 1,000; 200: 10,000)")
-      ->check(CLI::Range(1, 4000));
-  bench_cmd->add_option("--steps", bench.steps, "timed steps")->check(CLI::Range(1, 100000000));
-  bench_cmd->add_flag("--flowing", bench.flowing, "tilt gravity 30 degrees toward +x");
+      ->check(CLI::Range(4, 4000));
+  bench_cmd->add_option("--pile", bench.pile, "time this settled pile (LAMMPS data file, atom_style sphere) instead of settling one")
+      ->check(CLI::ExistingFile)
+      ->excludes("--columns");
+  CLI::Option* write_pile =
+      bench_cmd->add_option("--write-pile", bench.write_pile, "settle the pile of --columns and write it here (LAMMPS data file); no timing")
+          ->excludes("--pile");
+  // What times a pile does not apply to writing one.
+  for (CLI::Option* timing :
+       {bench_cmd->add_option("--steps", bench.steps, "timed steps")->check(CLI::Range(1, 100000000)),
+        bench_cmd->add_option("--warmup", bench.warmup, "untimed steps before them")->check(CLI::Range(0, 100000000)),
+        bench_cmd->add_flag("--flowing", bench.flowing, "tilt gravity 30 degrees toward +x"),
+        bench_cmd->add_flag("--thermal", bench.thermal, "a hot and a cold half, heat conducted through the contacts"),
+        bench_cmd->add_option("--integrator", bench.integrator, "integrator (see 'kiln integrators'; ARKODE at the fixed dt)")})
+    timing->excludes(write_pile);
   kiln::OrderOptions order;
   CLI::App* order_cmd = add_study(app, "order", "observed orders of integrators on a scene (order.json, .csv, .png)", order);
   order_cmd->add_option("--integrators", order.integrators, "comma-separated names (see 'kiln integrators')")
@@ -436,36 +450,38 @@ int main(int argc, char** argv) {
     if (*cases_cmd) return list_cases();
     if (*integrators_cmd) return list_integrators();
     if (*bench_cmd) return kiln::run_bench(bench);
-    // A study writes into out/<scene name>/<study> unless --out says otherwise.
-    auto out_dir = [](std::string& dir, const std::string& scene, const std::vector<std::string>& sets,
-                      const char* study) {
-      if (dir.empty()) dir = "out/" + kiln::load_scene(scene, sets).name + "/" + study;
+    // A study: under mpirun its runs are spread over the ranks (src/study_ranks.h), and rank 0
+    // alone prints and writes, into out/<scene name>/<study> unless --out says otherwise. Every
+    // exit from here on goes through finish_ranks, so that no rank waits for one that has failed.
+    kiln::start_ranks();
+    auto prepare = [](auto& study, const char* name) {
+      if (study.out_dir.empty()) study.out_dir = "out/" + kiln::load_scene(study.scene, study.sets).name + "/" + name;
+      if (kiln::this_rank() != 0) {
+        study.out_dir.clear();
+        study.quiet = true;
+      }
     };
     if (*order_cmd) {
-      out_dir(order.out_dir, order.scene, order.sets, "order");
+      prepare(order, "order");
       kiln::run_order_study(order);
     } else if (*sweep_cmd) {
-      out_dir(sweep.out_dir, sweep.scene, sweep.sets, "sweep");
+      prepare(sweep, "sweep");
       kiln::run_sweep_study(sweep);
     } else if (*wp_cmd) {
-      out_dir(wp.out_dir, wp.scene, wp.sets, "wp");
+      prepare(wp, "wp");
       kiln::run_work_precision(wp);
     }
-    return kiln::exit_success;
+    return kiln::finish_ranks(kiln::exit_success, "");
   } catch (const kiln::InputError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return kiln::exit_bad_input;
+    return kiln::finish_ranks(kiln::exit_bad_input, std::string("error: ") + e.what());
   } catch (const kiln::InstabilityError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return kiln::exit_unstable;
+    return kiln::finish_ranks(kiln::exit_unstable, std::string("error: ") + e.what());
   } catch (const kiln::OutputError& e) {
-    std::fprintf(stderr, "error: %s (nothing was published under a final name)\n", e.what());
-    return kiln::exit_output_failed;
+    return kiln::finish_ranks(kiln::exit_output_failed,
+                              std::string("error: ") + e.what() + " (nothing was published under a final name)");
   } catch (const kiln::StudyError& e) {
-    std::fprintf(stderr, "error: %s\n", e.what());
-    return kiln::exit_study_failed;
+    return kiln::finish_ranks(kiln::exit_study_failed, std::string("error: ") + e.what());
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "error (internal, please report it): %s\n", e.what());
-    return kiln::exit_internal;
+    return kiln::finish_ranks(kiln::exit_internal, std::string("error (internal, please report it): ") + e.what());
   }
 }

@@ -135,8 +135,8 @@ struct Scene {
   std::vector<Wall> walls;
   std::vector<Segment> segments;
   PeriodicCell periodic;  // no periodic axis unless given
-  // The files the scene read besides itself (SVG drawings), each as "path<TAB>FNV-1a hash of its
-  // bytes": a checkpoint records them, and a restart refuses drawings changed since.
+  // The files the scene read besides itself (SVG drawings, particle files), each as "path<TAB>FNV-1a
+  // hash of its bytes": a checkpoint records them, and a restart refuses files changed since.
   std::vector<std::string> inputs;
 
   // Integration and output.

@@ -15,6 +15,7 @@
 #include "src/nearest.h"
 #include "src/observers.h"
 #include "src/overrides.h"
+#include "src/particle_file.h"
 #include "src/particle_fill.h"
 #include "src/scene_reader.h"
 #include "src/svg_geometry.h"
@@ -40,7 +41,7 @@ const KeySchema scene_schema = {
                     "tangential_damping_ratio", "conduction", "conductance", "softened_modulus_ratio",
                     "contact_resistance"}},
     {"particles.*", {"material", "radius", "velocity", "random_velocity", "angular_velocity", "temperature", "at",
-                     "fill", "lattice", "attach", "fixed"}},
+                     "fill", "lattice", "file", "format", "attach", "fixed"}},
     {"particles.*.radius", {"uniform"}},
     {"particles.*.random_velocity", {"max", "seed"}},
     {"particles.*.temperature", {"x_split", "left", "right"}},
@@ -159,6 +160,23 @@ std::string read_name(const SceneNode& node) {
     node.fail("the name '" + name + "' cannot be a directory name: use 1 to 100 of A-Z a-z 0-9 _ . -, not "
               "starting with '.'");
   return name;
+}
+
+// 64-bit FNV-1a of a file's bytes ("" when it cannot be read: its reader reports that).
+std::string file_hash(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  uint64_t h = 14695981039346656037ull;
+  for (char c; in.get(c);) h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
+  std::ostringstream s;
+  s << std::hex << h;
+  return s.str();
+}
+
+// A file a scene names (a drawing, a particle file): relative paths are relative to the scene file.
+std::string beside_scene(const std::string& file, const std::string& scene_file) {
+  if (file.empty() || file.front() == '/') return file;
+  const size_t slash = scene_file.rfind('/');
+  return slash == std::string::npos ? file : scene_file.substr(0, slash + 1) + file;
 }
 
 // Where each particle came from, for messages.
@@ -385,9 +403,34 @@ Placement read_lattice(const SceneNode& lat, const SceneNode& radius, MemoryClai
                  static_cast<uint64_t>(seed));
 }
 
-Placement read_placement(const SceneNode& ps, const Scene& scene, MemoryClaim& claim) {
-  const int ways = ps.has("at") + ps.has("fill") + ps.has("lattice");
-  if (ways != 1) ps.fail("give exactly one of 'at' (a list of positions), 'fill' or 'lattice'");
+// file: a particle file (src/particle_file.h) beside the scene, in the format of its extension or
+// of `format`; its densities must be the material's, which gives every mass.
+// A checkpoint records the file's hash with the scene's other inputs (Scene::inputs).
+ParticleFile read_particle_set_file(const SceneNode& ps, Scene& scene, const Material& material, MemoryClaim& claim) {
+  if (ps.has("radius")) ps["radius"].fail("the particle file gives every radius: remove this key");
+  const SceneNode file_node = ps["file"];
+  const std::string file = beside_scene(file_node.text(), scene.file);
+  std::optional<ParticleFileFormat> format = particle_file_format_of(file);
+  if (auto f = ps.optional("format"))
+    format = f->choice({"lammps", "csv"}) == "csv" ? ParticleFileFormat::csv : ParticleFileFormat::lammps;
+  if (!format)
+    file_node.fail("the extension does not say the file's format (.data or .lmp: a LAMMPS data file, .csv: CSV); "
+                   "give format: lammps or format: csv");
+  ParticleFile read;
+  try {
+    read = read_particle_file(file, *format, {claim.max_particles(), material.density});
+  } catch (const InputError& e) {
+    file_node.fail(e.what());
+  }
+  claim.add_particles(file_node, read.size(), std::to_string(read.size()));
+  scene.inputs.push_back(file_node.text() + "\t" + file_hash(file));  // as the scene names it
+  return read;
+}
+
+Placement read_placement(const SceneNode& ps, const Scene& scene, MemoryClaim& claim, const ParticleFile* file) {
+  const int ways = ps.has("at") + ps.has("fill") + ps.has("lattice") + ps.has("file");
+  if (ways != 1) ps.fail("give exactly one of 'at' (a list of positions), 'fill', 'lattice' or 'file'");
+  if (file) return {file->position, file->radius};
   if (auto fill = ps.optional("fill")) return read_fill(*fill, ps["radius"], scene, claim);
   if (auto lat = ps.optional("lattice")) return read_lattice(*lat, ps["radius"], claim);
   const auto at = ps["at"].items();
@@ -415,9 +458,17 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
     ps.allow();
     const int mat = index.find(ps["material"]);
     if (!(scene.materials[mat].density > 0)) ps["material"].fail("this material needs a density to make particles");
+    std::optional<ParticleFile> file;
+    if (ps.has("file")) file = read_particle_set_file(ps, scene, scene.materials[mat], claim);
+    // What a file gives for each particle, a key would give again for all of them.
+    const bool file_temperatures = file && !file->temperature.empty();
+    for (const auto& [key, given] : {std::pair{"velocity", file && file->has_velocity},
+                                     std::pair{"angular_velocity", file && file->has_angular_velocity},
+                                     std::pair{"temperature", file_temperatures}})
+      if (given && ps.has(key)) ps[key].fail("the particle file gives every particle's " + std::string(key) + ": remove this key");
     const Vec2 velocity = ps.optional("velocity") ? ps["velocity"].vec2() : Vec2{};
     const double spin = ps.number_or("angular_velocity", 0);
-    const Placement placed = read_placement(ps, scene, claim);
+    const Placement placed = read_placement(ps, scene, claim, file ? &*file : nullptr);
     for (size_t k = 0; k < placed.position.size(); ++k)
       if (!within_reach(placed.position[k]))
         ps.fail("particle " + std::to_string(k) + " of this set lies at " + out_of_reach);
@@ -440,9 +491,10 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
     } else if (temp) {
       t_left = t_right = temp->temperature();
     }
-    if (scene.thermal != static_cast<bool>(temp) && !scene.position.empty())
+    const bool thermal_set = temp || file_temperatures;
+    if (scene.thermal != thermal_set && !scene.position.empty())
       ps.fail("either every particle set gives a temperature (a thermal scene) or none does");
-    scene.thermal = static_cast<bool>(temp);
+    scene.thermal = thermal_set;
     sets.first.push_back(scene.n_particles());
     if (ps.has("attach") && ps.has("fixed")) ps.fail("give one of 'attach' (a wall's name) or 'fixed', not both");
     // An attached or fixed particle moves with its wall: a velocity of its own would not be read.
@@ -453,15 +505,16 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
     if (auto a = ps.optional("attach")) attachments.push_back({*a, false, scene.n_particles(), count});
     if (auto f = ps.optional("fixed"); f && f->boolean()) attachments.push_back({*f, true, scene.n_particles(), count});
     for (size_t k = 0; k < placed.radius.size(); ++k) {
-      if (temp) scene.temperature.push_back(placed.position[k].x < x_split ? t_left : t_right);
+      if (file_temperatures) scene.temperature.push_back(file->temperature[k]);
+      else if (temp) scene.temperature.push_back(placed.position[k].x < x_split ? t_left : t_right);
       scene.position.push_back(placed.position[k]);
       scene.radius.push_back(placed.radius[k]);
-      Vec2 v = velocity;
+      Vec2 v = file && file->has_velocity ? file->velocity[k] : velocity;
       if (jitter > 0) v = v + Vec2{velocity_rng.uniform(-jitter, jitter), velocity_rng.uniform(-jitter, jitter)};
       if (!std::isfinite(v.x) || !std::isfinite(v.y))
         ps.fail("the velocities overflow double precision (random_velocity.max near 1.8e308)");
       scene.velocity.push_back(v);
-      scene.angular_velocity.push_back(spin);
+      scene.angular_velocity.push_back(file && file->has_angular_velocity ? file->angular_velocity[k] : spin);
       scene.material.push_back(mat);
       sets.of.push_back(static_cast<int>(sets.location.size()));
     }
@@ -578,24 +631,11 @@ struct DrawnWall {
   std::string name;
   std::vector<SvgPolyline> lines;
 };
-// 64-bit FNV-1a of a file's bytes ("" when it cannot be read: the SVG reader reports that).
-std::string file_hash(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  uint64_t h = 14695981039346656037ull;
-  for (char c; in.get(c);) h = (h ^ static_cast<unsigned char>(c)) * 1099511628211ull;
-  std::ostringstream s;
-  s << std::hex << h;
-  return s.str();
-}
 
 std::vector<DrawnWall> read_svg_entry(const SceneNode& node, const std::string& scene_file, const std::string& name,
                                       double tolerance, std::vector<std::string>& inputs) {
   node.allow();
-  std::string file = node["file"].text();
-  if (!file.empty() && file.front() != '/') {
-    const size_t slash = scene_file.rfind('/');
-    if (slash != std::string::npos) file = scene_file.substr(0, slash + 1) + file;
-  }
+  const std::string file = beside_scene(node["file"].text(), scene_file);
   SvgPlacement placement;
   placement.scale = node.has("scale") ? node["scale"].positive() : 1.0;
   placement.offset = node.has("offset") ? point(node["offset"]) : Vec2{};

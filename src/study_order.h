@@ -24,8 +24,9 @@ struct OrderOptions {
   bool quiet = false;
 };
 
-// Runs the study (in parallel; results do not depend on the number of threads), prints the
-// table unless quiet, writes the files if out_dir is given, and returns order.json's content.
+// Runs the study (in parallel over threads and, under mpirun, ranks; results depend on neither),
+// prints the table unless quiet, writes the files if out_dir is given, and returns order.json's
+// content.
 nlohmann::json run_order_study(const OrderOptions& options);
 
 }  // namespace kiln

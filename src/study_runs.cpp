@@ -4,10 +4,17 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <numeric>
 #include <thread>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include <sched.h>
 
 #include "src/error.h"
 #include "src/stability.h"
@@ -18,6 +25,7 @@
 #include "src/progress.h"
 #include "src/scene_yaml.h"
 #include "src/simulation.h"
+#include "src/study_ranks.h"
 #include "src/subprocess.h"
 
 namespace kiln {
@@ -94,6 +102,65 @@ void run_one(const std::string& path, const std::vector<std::string>& base_sets,
   }
 }
 
+// What one run of `runs` costs, relative to the others: its steps, times its timed repeats.
+double cost_of(const StudyRun& run) { return (run.repeats > 1 ? run.repeats + 1 : 1) / run.dt; }
+
+// The runs this rank runs, costliest first: each run, costliest first, goes to the rank with the
+// least work so far (ties: the lower rank), so the levels of an order study, each twice the work of
+// the last, balance. Every rank computes the same assignment from the same runs.
+std::vector<size_t> runs_of_this_rank(const std::vector<StudyRun>& runs) {
+  std::vector<size_t> order(runs.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return cost_of(runs[a]) > cost_of(runs[b]); });
+  const int rank = this_rank();
+  std::vector<double> load(rank_count(), 0.0);
+  std::vector<size_t> mine;
+  for (size_t k : order) {
+    const auto least = std::min_element(load.begin(), load.end());
+    *least += cost_of(runs[k]);
+    if (least - load.begin() == rank) mine.push_back(k);
+  }
+  return mine;
+}
+
+// Worker threads: `threads`, or (0) every core this process may run on (its CPU affinity, which
+// mpirun sets when it binds a rank), and no more than there are runs.
+size_t worker_count(int threads, size_t runs) {
+  cpu_set_t cpus;
+  const int cores = sched_getaffinity(0, sizeof cpus, &cpus) == 0 ? CPU_COUNT(&cpus)
+                                                                   : static_cast<int>(std::thread::hardware_concurrency());
+  return std::min(runs, static_cast<size_t>(std::max(1, threads > 0 ? threads : cores)));
+}
+
+// Sends the results of this rank's runs to every rank and fills in everyone's (src/study_ranks.h),
+// as CBOR: doubles exactly, NaN included. Without MPI the results go through the same encoding.
+void share_results(std::vector<StudyRun>& runs, const std::vector<size_t>& mine) {
+  nlohmann::json block = nlohmann::json::array();
+  for (size_t k : mine) {
+    const StudyRun& r = runs[k];
+    block.push_back({{"run", k}, {"value", r.value}, {"rhs_evals", r.rhs_evals}, {"seconds", r.seconds},
+                     {"unstable", r.unstable}, {"failure", r.failure}});
+  }
+  const std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(block);
+  std::vector<int> received(runs.size(), 0);
+  for (const std::string& from_rank : gather_on_every_rank(std::string(bytes.begin(), bytes.end()))) {
+    for (const nlohmann::json& r : nlohmann::json::from_cbor(from_rank)) {
+      const size_t k = r["run"].get<size_t>();
+      StudyRun& run = runs.at(k);
+      run.value = r["value"].get<std::vector<double>>();
+      run.rhs_evals = r["rhs_evals"].get<long>();
+      run.seconds = r["seconds"].get<double>();
+      run.unstable = r["unstable"].get<bool>();
+      run.failure = r["failure"].get<std::string>();
+      ++received[k];
+    }
+  }
+  // Every run exactly once: no rank dropped one, no two ranks reported the same.
+  if (std::any_of(received.begin(), received.end(), [](int n) { return n != 1; }))
+    throw std::logic_error("the ranks' results do not cover the study's runs exactly once");
+}
+
 }  // namespace
 
 void run_study(const std::string& scene, const std::vector<std::string>& sets, double t_end, const std::string& quantity,
@@ -109,23 +176,30 @@ void run_study(const std::string& scene, const std::vector<std::string>& sets, d
       throw InputError("a run of the study with " + run.integrator + ": " +
                        refusal->substr(0, refusal->rfind(", or run it anyway")));
   }
+  // This rank's share (all of them without MPI), on its threads.
+  const std::vector<size_t> mine = runs_of_this_rank(runs);
   std::atomic<size_t> next{0}, finished{0};
   auto work = [&] {
-    for (size_t k = next++; k < runs.size(); k = next++) {
-      run_one(scene, sets, t_end, quantity, heat_stage, runs[k]);
+    // The study's threads are its runs: each run's own loops stay on its worker (OpenMP would
+    // put a team of every core's threads under each of them). Results do not depend on it.
+#ifdef _OPENMP
+    omp_set_num_threads(1);
+#endif
+    for (size_t k = next++; k < mine.size(); k = next++) {
+      run_one(scene, sets, t_end, quantity, heat_stage, runs[mine[k]]);
       ++finished;
     }
   };
-  const int n = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  std::vector<std::thread> pool;
-  for (int k = 0; k < n; ++k) pool.emplace_back(work);
+  std::vector<std::thread> pool(worker_count(threads, mine.size()));
+  for (std::thread& worker : pool) worker = std::thread(work);
   Progress progress("study", quiet);
-  while (finished < runs.size()) {
-    progress.update_runs(static_cast<long>(finished), static_cast<long>(runs.size()));
+  while (finished < mine.size()) {
+    progress.update_runs(static_cast<long>(finished), static_cast<long>(mine.size()));
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }
   progress.finish();
   for (auto& th : pool) th.join();
+  share_results(runs, mine);
 }
 
 std::vector<double> study_reference(const Scene& scene, const std::string& path, const std::vector<std::string>& sets,
@@ -166,6 +240,7 @@ nlohmann::json study_header(const Scene& scene, const std::string& quantity, con
           {"norm", "max abs over components"},
           {"reference", reference},
           {"t_end", t_end},
+          {"ranks", rank_count()},  // how it ran: the MPI processes (src/study_ranks.h)
           {"integrators", nlohmann::json::array()}};
 }
 

@@ -1,6 +1,7 @@
 // What the study commands share: independent runs of one scene with different integrators and
-// steps, spread over threads (each run writes only its own slot, so results never depend on the
-// number of threads), and the quantities they can be compared on.
+// steps, spread over threads and, under mpirun, over ranks (src/study_ranks.h; each run writes
+// only its own slot, so results never depend on the number of threads or ranks), and the
+// quantities they can be compared on.
 #pragma once
 #include <nlohmann/json.hpp>
 #include <string>
@@ -25,8 +26,9 @@ struct StudyRun {
   std::string failure;        // why it failed, if it did
 };
 
-// Runs scene (with `sets`) to t_end for every run, on `threads` workers (0: every core), showing
-// how many have finished on a terminal unless quiet.
+// Runs scene (with `sets`) to t_end for every run, showing how many have finished on a terminal
+// unless quiet. Under mpirun each rank runs a share on its `threads` workers (0: every core it may
+// run on) and every rank ends with every run's results; throws RankFailed when another rank failed.
 // With heat_stage the runs' integrators and steps are the frozen heating stage's (freeze.integrator,
 // freeze.dt): the scene settles the same way in every run.
 void run_study(const std::string& scene, const std::vector<std::string>& sets, double t_end, const std::string& quantity,

@@ -7,6 +7,7 @@
 #include "src/error.h"
 #include "src/scene_yaml.h"
 #include "src/stability.h"
+#include "src/study_ranks.h"
 #include "src/study_runs.h"
 
 namespace kiln {
@@ -57,6 +58,7 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   out["scene"] = base.name;
   out["integrator"] = o.integrator;
   out["t_end"] = t_end;
+  out["ranks"] = rank_count();  // how it ran: the MPI processes (src/study_ranks.h)
   out["quantities"] = quantities;
   out["dt"] = dts;
   out["largest_stable_dt"] = stable > 0 ? nlohmann::json(stable) : nlohmann::json(nullptr);

@@ -1,0 +1,226 @@
+#!/usr/bin/env bash
+# bench/run.sh [--quick] [--build-dir DIR]: kiln against LAMMPS and LIGGGHTS on the pile of
+# shared/BENCH.md, every code on the same settled pile, in one run on this machine.
+#
+#   bench/run.sh           the full run (about an hour on 2 cores): 1,000, 10,000 and 100,000 discs
+#                          resting, 10,000 flowing, heat (LIGGGHTS' fix heat/gran/conduction),
+#                          ARKODE, 2 threads on 100,000; 5 alternating pairs (3 at 100,000)
+#   bench/run.sh --quick   the same figures from fewer steps and repeats, in under 10 minutes
+#   --build-dir DIR        kiln's build directory (default build, or $KILN_BUILD_DIR): configured
+#                          and built as Release here if needed
+#
+# It installs the peers from Debian if they are missing (lammps, liggghts, and time for
+# /usr/bin/time -v), builds kiln, builds the piles once into bench/out/piles/ (kiln settles the
+# 1,000 and 10,000 piles, `kiln bench --write-pile`; LAMMPS replicates the 10,000 pile ten times
+# in x, bench/in.replicate; delete the directory to settle them again), then runs kiln and the
+# peers alternately, one after the other, repeat by repeat (bench/in.lammps, bench/in.liggghts),
+# with OMP_NUM_THREADS=1 except kiln's 2-thread runs. It prints a table of every
+# (code, model, N), the goal ratios (each from runs of this invocation, pair by pair), and as its
+# last line `ratio kiln/LAMMPS particle-steps/s: X.XX at N=10000`. Raw numbers of every run:
+# bench/out/runs-<time>.csv; every run's output: bench/out/logs-<time>/.
+set -euo pipefail
+
+here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
+root=$(dirname "$here")
+quick=0
+build=${KILN_BUILD_DIR:-$root/build}
+while [ $# -gt 0 ]; do
+  case $1 in
+    --quick) quick=1 ;;
+    --build-dir) [ $# -ge 2 ] || { echo "--build-dir needs a directory" >&2; exit 2; }; build=$2; shift ;;
+    -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
+    *) echo "unknown argument '$1'; usage: bench/run.sh [--quick] [--build-dir DIR]" >&2; exit 2 ;;
+  esac
+  shift
+done
+case $build in /*) ;; *) build=$root/$build ;; esac
+
+started=$(date +%s)
+stamp=$(date +%Y%m%d-%H%M%S)
+out=$here/out
+piles=$out/piles
+logs=$out/logs-$stamp
+csv=$out/runs-$stamp.csv
+mkdir -p "$piles" "$logs"
+
+# ---- the peers and /usr/bin/time, from Debian if missing ----
+missing=()
+command -v lmp >/dev/null || missing+=(lammps)
+command -v liggghts >/dev/null || missing+=(liggghts)
+[ -x /usr/bin/time ] || missing+=(time)
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "installing from Debian: ${missing[*]}"
+  export DEBIAN_FRONTEND=noninteractive
+  apt-get update -qq && apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null ||
+    echo "warning: could not install ${missing[*]}" >&2
+fi
+command -v lmp >/dev/null || { echo "error: LAMMPS (lmp) is needed: apt-get install lammps" >&2; exit 1; }
+[ -x /usr/bin/time ] || { echo "error: /usr/bin/time is needed: apt-get install time" >&2; exit 1; }
+have_liggghts=0
+command -v liggghts >/dev/null && have_liggghts=1
+[ $have_liggghts = 1 ] || echo "warning: no LIGGGHTS: its rows and ratios are left out" >&2
+
+# ---- kiln, a Release build ----
+if [ ! -f "$build/CMakeCache.txt" ]; then
+  echo "configuring kiln in $build (Release)"
+  cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+fi
+grep -q '^CMAKE_BUILD_TYPE:STRING=Release$' "$build/CMakeCache.txt" ||
+  { echo "error: $build is not a Release build: timings of it would mean nothing (use --build-dir)" >&2; exit 1; }
+if grep -q '^KILN_SANITIZE:BOOL=ON$' "$build/CMakeCache.txt"; then
+  echo "error: $build is built with the sanitizers (use --build-dir)" >&2; exit 1
+fi
+echo "building kiln in $build"
+cmake --build "$build" --target kiln >"$logs/build.log" 2>&1 ||
+  { tail -n 30 "$logs/build.log"; echo "error: kiln did not build: see $logs/build.log" >&2; exit 1; }
+kiln=$build/kiln
+
+# ---- the piles, once ----
+pile() {  # pile COLUMNS FILE: kiln settles 50 rows x COLUMNS and writes the pile
+  if [ -s "$2" ]; then echo "pile: reusing $2"; return; fi
+  echo "pile: settling 50 x $1 discs with kiln (0.24 s of simulated time, not timed)"
+  OMP_NUM_THREADS=1 "$kiln" bench --write-pile "$2" --columns "$1"
+}
+pile 20 "$piles/pile_1k.data"
+pile 200 "$piles/pile_10k.data"
+if [ -s "$piles/pile_100k.data" ]; then
+  echo "pile: reusing $piles/pile_100k.data"
+else
+  echo "pile: ten periodic copies in x of the 10,000 pile, by LAMMPS (replicate 10 1 1, write_data)"
+  OMP_NUM_THREADS=1 lmp -in "$here/in.replicate" -var pile "$piles/pile_10k.data" -var copies 10 \
+    -var out "$piles/pile_100k.data" -log none >"$logs/replicate.log" 2>&1 ||
+    { echo "error: LAMMPS could not replicate the pile: see $logs/replicate.log" >&2; exit 1; }
+fi
+# LIGGGHTS in 2D takes a disc's mass as rho pi r^2: a density of rho 4/3 r gives the sphere's mass
+# 4/3 pi r^3 rho (column 3 of an Atoms line is the diameter, column 4 the density).
+liggghts_pile() {
+  awk '/^Atoms/ { atoms = 1; print; next } /^Velocities/ { atoms = 0 }
+       atoms && NF >= 7 { $4 = sprintf("%.17g", $4 * 2 / 3 * $3) } { print }' "$1" >"$2"
+}
+if [ $have_liggghts = 1 ]; then liggghts_pile "$piles/pile_10k.data" "$piles/pile_10k_liggghts.data"; fi
+middle_x() { awk '/xlo xhi/ { printf "%.17g\n", ($1 + $2) / 2; exit }' "$1"; }
+
+# ---- runs ----
+echo "group,repeat,code,model,integrator,n,steps,warmup,threads,loop_s,rhs_evals,peak_rss_mb,contacts_per_disc,log" >"$csv"
+count=0
+group=""
+repeat=0
+
+# record CODE MODEL INTEGRATOR N STEPS WARMUP THREADS -- COMMAND...: runs it under /usr/bin/time -v
+# and appends its figures to the CSV.
+record() {
+  local code=$1 model=$2 integrator=$3 n=$4 steps=$5 warmup=$6 threads=$7
+  shift 8
+  count=$((count + 1))
+  local name=$code-$model
+  [ "$integrator" = velocity-verlet ] || name=$name-$integrator
+  [ "$threads" = 1 ] || name=$name-${threads}threads
+  local log=$logs/$(printf '%03d' $count)-$name-$n.log
+  printf '  %-8s %-8s %-8s N=%-6s %6s steps, %s thread(s): ' "$code" "$model" "$integrator" "$n" "$steps" "$threads"
+  if ! OMP_NUM_THREADS=$threads /usr/bin/time -v -o "$log.time" "$@" >"$log" 2>&1; then
+    echo "failed; the end of $log:"
+    tail -n 15 "$log"
+    exit 1
+  fi
+  local loop rhs contacts
+  if [ "$code" = kiln ]; then
+    loop=$(sed -n 's/^kiln-bench: .* loop_s=\([^ ]*\).*/\1/p' "$log")
+    rhs=$(sed -n 's/^kiln-bench: .* rhs_evals=\([^ ]*\).*/\1/p' "$log")
+    contacts=$(sed -n 's/^kiln-bench: .* contacts_per_disc=\([^ ]*\).*/\1/p' "$log")
+  else
+    # "Loop time of X on 1 procs for N steps ...": the timed run is the last one.
+    loop=$(awk -v steps="$steps" '/^Loop time of/ && $9 == steps { t = $4 } END { print t }' "$log")
+    rhs=$steps
+    contacts=$(sed -n 's/^lammps-contacts-per-disc: *//p' "$log")
+  fi
+  [ -n "$loop" ] || { echo "no loop time for $steps steps in $log"; exit 1; }
+  local rss
+  rss=$(awk -F': ' '/Maximum resident set size/ { printf "%.2f", $2 / 1024 }' "$log.time")
+  echo "$group,$repeat,$code,$model,$integrator,$n,$steps,$warmup,$threads,$loop,$rhs,$rss,$contacts,$log" >>"$csv"
+  awk -v l="$loop" -v n="$n" -v s="$steps" -v r="$rss" \
+    'BEGIN { printf "%.2f s, %.3g particle-steps/s, %.0f MB\n", l, n * s / l, r }'
+}
+
+kiln_run() {  # kiln_run MODEL N PILE STEPS WARMUP THREADS [OPTIONS...]
+  local model=$1 n=$2 file=$3 steps=$4 warmup=$5 threads=$6
+  shift 6
+  local integrator=velocity-verlet
+  [ "${1:-}" = --integrator ] && integrator=$2
+  record kiln "$model" "$integrator" "$n" "$steps" "$warmup" "$threads" -- \
+    "$kiln" bench --pile "$file" --steps "$steps" --warmup "$warmup" "$@"
+}
+lammps_run() {  # lammps_run MODEL N PILE STEPS WARMUP GX GY
+  record LAMMPS "$1" velocity-verlet "$2" "$4" "$5" 1 -- \
+    lmp -in "$here/in.lammps" -var pile "$3" -var warmup "$5" -var steps "$4" -var gx "$6" -var gy "$7" -log none
+}
+liggghts_run() {  # liggghts_run MODEL N PILE STEPS WARMUP THERMAL(0/1)
+  [ $have_liggghts = 1 ] || return 0
+  # stdbuf: LIGGGHTS' output reaches the log even when MPI aborts it.
+  record LIGGGHTS "$1" velocity-verlet "$2" "$4" "$5" 1 -- \
+    stdbuf -oL liggghts -in "$here/in.liggghts" -var pile "$3" -var warmup "$5" -var steps "$4" \
+    -var gx 0 -var gy -1 -var thermal "$6" -var xmid "$(middle_x "$3")" -log none
+}
+
+start_group() {  # start_group NAME DESCRIPTION
+  group=$1
+  echo
+  echo "== $2"
+}
+
+if [ $quick = 1 ]; then
+  pairs_small=3 steps_small=10000 warm_small=2000
+  pairs_10k=3 steps_10k=8000 warm_10k=2000
+  pairs_flow=1 steps_flow=5000 warm_flow=1000
+  pairs_cost=2 steps_cost=4000 warm_cost=1000 steps_erk=1000 warm_erk=500
+  pairs_100k=1 steps_100k=1000 warm_100k=500
+else
+  pairs_small=5 steps_small=20000 warm_small=5000
+  pairs_10k=5 steps_10k=20000 warm_10k=5000
+  pairs_flow=5 steps_flow=20000 warm_flow=5000
+  pairs_cost=3 steps_cost=20000 warm_cost=5000 steps_erk=5000 warm_erk=1000
+  pairs_100k=3 steps_100k=5000 warm_100k=5000
+fi
+p1k=$piles/pile_1k.data p10k=$piles/pile_10k.data p100k=$piles/pile_100k.data
+p10k_lig=$piles/pile_10k_liggghts.data
+cos30=0.8660254037844386
+
+start_group small "1,000 discs, resting: kiln and LAMMPS alternately"
+for repeat in $(seq "$pairs_small"); do
+  kiln_run resting 1000 "$p1k" "$steps_small" "$warm_small" 1
+  lammps_run resting 1000 "$p1k" "$steps_small" "$warm_small" 0 -1
+done
+
+start_group resting "10,000 discs, resting: kiln, LAMMPS and LIGGGHTS alternately"
+for repeat in $(seq "$pairs_10k"); do
+  kiln_run resting 10000 "$p10k" "$steps_10k" "$warm_10k" 1
+  lammps_run resting 10000 "$p10k" "$steps_10k" "$warm_10k" 0 -1
+  liggghts_run resting 10000 "$p10k_lig" "$steps_10k" "$warm_10k" 0
+done
+
+start_group flowing "10,000 discs, flowing (gravity tilted 30 degrees toward +x)"
+for repeat in $(seq "$pairs_flow"); do
+  kiln_run flowing 10000 "$p10k" "$steps_flow" "$warm_flow" 1 --flowing
+  lammps_run flowing 10000 "$p10k" "$steps_flow" "$warm_flow" 0.5 -$cos30
+done
+
+start_group cost "10,000 discs: what heat and an ARKODE right-hand side cost"
+for repeat in $(seq "$pairs_cost"); do
+  kiln_run resting 10000 "$p10k" "$steps_cost" "$warm_cost" 1
+  kiln_run thermal 10000 "$p10k" "$steps_cost" "$warm_cost" 1 --thermal
+  kiln_run resting 10000 "$p10k" "$steps_erk" "$warm_erk" 1 --integrator erk2
+  liggghts_run resting 10000 "$p10k_lig" "$steps_cost" "$warm_cost" 0
+  liggghts_run thermal 10000 "$p10k_lig" "$steps_cost" "$warm_cost" 1
+done
+
+start_group large "100,000 discs, resting: kiln on 1 thread, LAMMPS, kiln on 2 threads"
+for repeat in $(seq "$pairs_100k"); do
+  kiln_run resting 100000 "$p100k" "$steps_100k" "$warm_100k" 1
+  lammps_run resting 100000 "$p100k" "$steps_100k" "$warm_100k" 0 -1
+  kiln_run resting 100000 "$p100k" "$steps_100k" "$warm_100k" 2
+done
+
+echo
+echo "raw figures: $csv"
+echo "total time: $(($(date +%s) - started)) s"
+echo
+python3 "$here/report.py" "$csv"
