@@ -56,44 +56,17 @@ ArkodeIntegrator::~ArkodeIntegrator() {
   if (context_) SUNContext_Free(&context_);
 }
 
-// The first stage of a step evaluates at the step's start, in place in y_ (at ARKODE's own time
-// there, which differs from the grid time t_ by the round-off of its summed steps): with the
-// previous step's history pending, that evaluation is the one at the previous step's end, so its
-// history is accepted there. Any other first evaluation settles the history first.
 int ArkodeIntegrator::explicit_rhs(double t, N_Vector y, N_Vector ydot, void* p) {
   ArkodeIntegrator* self = self_of(p);
-  const double* state = N_VGetArrayPointer(y);
-  const bool fold = self->history_pending_ && state == self->y_;
-  if (self->history_pending_ && !fold) self->settle();
   if (self->method_.dirk_table.empty())
-    self->system_->derivative(t, state, N_VGetArrayPointer(ydot));
+    self->system_->derivative(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
   else
-    self->system_->explicit_part(t, state, N_VGetArrayPointer(ydot));
-  if (fold) {
-    self->system_->accept(t);
-    self->history_pending_ = false;
-    ++self->history_folded_;
-  }
+    self->system_->explicit_part(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
   return 0;
 }
 
-// At ARKODE's time, where the folded evaluation would have been: a run that settles (at a
-// checkpoint) and one that folds take the same steps, bit for bit.
-void ArkodeIntegrator::settle() {
-  if (!history_pending_) return;
-  double t = t_;
-  ARKStepGetCurrentTime(memory_, &t);
-  system_->prepare(t_, y_, 0);
-  system_->derivative(t, y_, scratch_.data());
-  system_->accept(t);
-  ++history_evals_;
-  history_pending_ = false;
-}
-
 int ArkodeIntegrator::implicit_rhs(double t, N_Vector y, N_Vector ydot, void* p) {
-  ArkodeIntegrator* self = self_of(p);
-  if (self->history_pending_ && N_VGetArrayPointer(y) != self->y_) self->settle();
-  self->system_->implicit_part(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
+  self_of(p)->system_->implicit_part(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot));
   return 0;
 }
 
@@ -104,7 +77,6 @@ void ArkodeIntegrator::start(OdeSystem& system, double t0, double* y, double dt)
 }
 
 void ArkodeIntegrator::save(Snapshot& s, const std::string& p) const {
-  if (history_pending_) throw std::logic_error("ARKODE saved with its contact history pending: settle() first");
   double t_arkode = t_, h = dt_;
   ARKStepGetCurrentTime(memory_, &t_arkode);
   ARKStepGetCurrentStep(memory_, &h);
@@ -213,8 +185,6 @@ void ArkodeIntegrator::step() {
     skin_capped_ += bound < h;  // the step the tolerance wanted is longer than the lists allow
     h = std::min(h, bound);
   }
-  // New lists merge the committed history: it must be the previous step's first.
-  if (history_pending_ && !system_->neighbours_cover(t_, y_, h)) settle();
   system_->prepare(t_, y_, h);
   const double t_start = t_;
   step_start_.assign(y_, y_ + scratch_.size());
@@ -268,12 +238,17 @@ void ArkodeIntegrator::step() {
     // time, not ARKODE's sum of the steps (which drifts, and used to put a frame one step late).
     if (control_.rtol == 0) t_ = landing_ ? stop_ : grid_start_ + static_cast<double>(grid_steps_) * dt_;
   }
-  // The contact history of the accepted step comes from an evaluation at its end (the stages all
-  // saw the history committed at the step's start): the next step's first.
-  if (system_->has_history())
-    history_pending_ = true;
-  else
-    system_->accept(t_);
+  if (system_->has_history()) {
+    // The contact history of the accepted step comes from an evaluation at its end (the stages
+    // all saw the history committed at the step's start). ARKODE's next first stage evaluates the
+    // same state, but it cannot stand in for this one: at the Coulomb cap the capped spring folds
+    // the dashpot into the elongation, so an evaluation from the committed history is not the one
+    // that made it, and a run's bits would depend on when frames and checkpoints read it.
+    system_->prepare(t_, y_, 0);
+    system_->derivative(t_, y_, scratch_.data());
+    ++history_evals_;
+  }
+  system_->accept(t_);
   refresh_stats();
 }
 
@@ -380,7 +355,6 @@ nlohmann::json ArkodeIntegrator::statistics() const {
                           {"rhs_evals_explicit", fe},
                           {"rhs_evals_implicit", fi},
                           {"rhs_evals_history", history_evals_},
-                          {"history_folded", history_folded_},
                           {"newton_iterations", newton},
                           {"last_step", last},
                           {"contact_events", events_located_},

@@ -34,7 +34,6 @@ class ArkodeIntegrator final : public Integrator {
   ~ArkodeIntegrator() override;
   void start(OdeSystem& system, double t0, double* y, double dt) override;
   void step() override;
-  void settle() override;
   double time() const override { return t_; }
   void set_stop_time(double t) override;
   nlohmann::json statistics() const override;
@@ -68,11 +67,6 @@ class ArkodeIntegrator final : public Integrator {
   bool implicit_ = false;  // an IMEX pair with a stiff part to solve (false: its explicit table alone)
   std::vector<double> scratch_;  // f at the end of a step, for contact history
   long history_evals_ = 0;
-  // The accepted step's contact history is still to come from an evaluation at its end: the
-  // next step's first stage is that evaluation (folded: no extra right-hand side), unless the
-  // history is needed sooner (settle()).
-  bool history_pending_ = false;
-  long history_folded_ = 0;
   std::vector<double> events_start_;  // event functions at the step's start
   std::vector<double> events_now_;    // ... and at a trial end (kept: no allocation per step)
   std::vector<int> flips_;       // +1 onset, -1 release, per candidate contact, of a located event

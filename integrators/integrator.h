@@ -93,9 +93,8 @@ class OdeSystem {
   virtual void derivative(double t, const double* y, double* ydot) = 0;
   // Whether the neighbour lists built in prepare() still cover state y (multi-stage methods check
   // after each step; a step that outran them is redone: fixed steps with lists rebuilt at its start
-  // to cover the displacement to `reached`, adaptive ones shorter), and, with a lookahead, whether
-  // prepare(t, y, lookahead) would keep them.
-  virtual bool neighbours_cover(double, const double*, double /*lookahead*/ = 0) const { return true; }
+  // to cover the displacement to `reached`, adaptive ones shorter).
+  virtual bool neighbours_cover(double, const double*) const { return true; }
   virtual void rebuild_neighbours(double /*t*/, const double* /*y*/, double /*t_reached*/, const double* /*reached*/) {}
   // The longest step the neighbour lists allow from y at its velocities: adaptive steps are capped
   // at it, so that no stage jumps over a contact the lists do not hold.
@@ -160,10 +159,6 @@ class Integrator {
   // Binds the live state `y` (advanced in place by step()) and evaluates what the scheme needs at t0.
   virtual void start(OdeSystem& system, double t0, double* y, double dt) = 0;
   virtual void step() = 0;  // advances y by one step (of the dt given to start(), if fixed)
-  // Brings what the system keeps of the latest step (its contact history) to the step's end. A
-  // scheme may leave that to its next step's first evaluation (ARKODE); whatever reads the history
-  // between steps (energy, frames, checkpoints, a stage's end) calls this first.
-  virtual void settle() {}
   virtual double time() const = 0;
   // Adaptive integrators do not step past this time (an output frame, the end).
   virtual void set_stop_time(double) {}

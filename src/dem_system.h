@@ -63,7 +63,7 @@ class DemSystem final : public OdeSystem {
 
   StateLayout layout() const override { return layout_; }
   void prepare(double t, const double* y, double lookahead) override;
-  bool neighbours_cover(double t, const double* y, double lookahead = 0) const override;
+  bool neighbours_cover(double t, const double* y) const override;
   void rebuild_neighbours(double t, const double* y, double t_reached, const double* reached) override;
   double neighbour_step_bound(const double* y) const override;
   std::string describe_travel(const double* from, const double* to, double h) const override;

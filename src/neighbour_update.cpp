@@ -64,9 +64,7 @@ std::string DemSystem::describe_travel(const double* from, const double* to, dou
   return s.str();
 }
 
-bool DemSystem::neighbours_cover(double t, const double* y, double lookahead) const {
-  return built_ && covers(t, y, lookahead);
-}
+bool DemSystem::neighbours_cover(double t, const double* y) const { return built_ && covers(t, y, 0); }
 
 // Verlet-list criterion: no pair can have closed a gap of one skin since the last rebuild if
 // every particle moved less than half a skin (and a particle plus its wall less than a skin).

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "src/error.h"
+#include "src/scene.h"
 #include "src/nearest.h"
 #include "src/outputs.h"
 
@@ -248,7 +249,8 @@ class LammpsDataReader {
       if (type < 1 || (types_ > 0 && type > types_))
         lines_.fail("atom type " + d.words[1] + ": the header declares types 1 to " + std::to_string(types_));
       const double diameter = number(d, 2, "diameter"), density = number(d, 3, "density");
-      if (!(diameter > 0)) lines_.fail("diameter " + d.words[2] + ": a particle needs a positive diameter");
+      if (!(diameter >= 2 * shortest_length && diameter <= 2 * farthest_coordinate))
+        lines_.fail("diameter " + d.words[2] + ": expected a radius in [1e-9, 1e6] m, as for a scene's radius");
       if (!(density > 0)) lines_.fail("density " + d.words[3] + ": expected a positive density");
       if (limits_.density > 0 && std::abs(density - limits_.density) > 1e-9 * limits_.density)
         lines_.fail("density " + d.words[3] + " differs from the material's " + message_number(limits_.density) +
@@ -363,9 +365,10 @@ ParticleFile read_csv(const std::string& path, const ParticleFileLimits& limits)
     if (const auto [at, fresh] = line_of_id.insert({id, lines.number()}); !fresh)
       lines.fail("id " + std::to_string(id) + " is given twice (also at line " + std::to_string(at->second) + ")");
     const double size = by_radius ? value("radius", 0) : value("diameter", 0);
-    if (!(size > 0))
+    const double radius_of_size = by_radius ? size : 0.5 * size;
+    if (!(radius_of_size >= shortest_length && radius_of_size <= farthest_coordinate))
       lines.fail(std::string(by_radius ? "radius " : "diameter ") + fields[column[by_radius ? "radius" : "diameter"]] +
-                 ": a particle needs a positive size");
+                 ": expected a radius in [1e-9, 1e6] m, as for a scene's radius");
     out.id.push_back(id);
     out.position.push_back({value("x", 0), value("y", 0)});
     out.radius.push_back(by_radius ? size : size / 2);

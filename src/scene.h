@@ -14,6 +14,13 @@
 
 namespace kiln {
 
+// Physical ranges of lengths (m). A disc below a nanometre is a few atoms, which the contact
+// mechanics of continua does not describe. Coordinates stay within 1000 km of the origin: over
+// nanometre discs, farther ones would overflow the 64-bit cell indices of the fill grid and the
+// float boxes of the neighbour search.
+inline constexpr double shortest_length = 1e-9;
+inline constexpr double farthest_coordinate = 1e6;
+
 enum class MassModel { sphere, cylinder };
 enum class NormalModel { linear, hertz };
 

@@ -60,12 +60,6 @@ const KeySchema scene_schema = {
     {"stop", {"kinetic_energy_below", "not_before"}},
 };
 
-// Physical ranges of lengths (m). A disc below a nanometre is a few atoms, which the contact
-// mechanics of continua does not describe. Coordinates stay within 1000 km of the origin: over
-// nanometre discs, farther ones would overflow the 64-bit cell indices of the fill grid and the
-// float boxes of the neighbour search.
-constexpr double shortest_length = 1e-9;
-constexpr double farthest_coordinate = 1e6;
 // The spring-dashpot laws reach a restitution e -> 0 only as the dashpot approaches its overdamped
 // limit (critical damping for the linear law with tension; without bound for Hertz and clamped
 // laws), where e hangs on the third digit of the damping and the contact barely ends: below 0.01

@@ -349,7 +349,6 @@ void SceneRun::count_contacts() {
 // A frame: written, checked (finite state, energy), sampled; then the stop conditions, which are
 // decided at frames.
 SceneRun::Ended SceneRun::at_frame(bool moving, bool at_end) {
-  if (moving) integrator_->settle();  // the springs' energy is the step end's
   EnergyLedger now;
   {
     const StageTimer timer(profile_, Stage::checks);
@@ -433,7 +432,6 @@ SceneRun::Ended SceneRun::run_stage(Integrator& stepper, bool moving) {
 }
 
 void SceneRun::close_stage(Integrator& stepper, nlohmann::json& stats) {
-  stepper.settle();
   total_steps_ += stage_sizes_.count;  // the steps the run kept (ARKODE's count adds redone ones)
   total_rhs_ += stage_rhs_before_ + stepper.stats().rhs_evals;
   stats = merged_statistics(stage_stats_before_, stepper.statistics());
@@ -451,7 +449,6 @@ void SceneRun::close_stage(Integrator& stepper, nlohmann::json& stats) {
 void SceneRun::save_checkpoint() {
   if (!files_ || options_.source.text.empty() || last_checkpoint_step_ == total_steps_ + stage_steps_) return;
   last_checkpoint_step_ = total_steps_ + stage_steps_;
-  if (stage_ == mechanics_stage && integrator_) integrator_->settle();
   Snapshot s;
   s.put_text("kiln_version", KILN_VERSION);
   s.put_text("run_id", run_id_);

@@ -156,8 +156,10 @@ TEST_CASE("every error of a LAMMPS data file names the file, the line and what i
   CHECK_THAT(error(replaced(two_atoms, "7 1 0.002 2500 0.0025 0.0030000000000000001 0 0 0 0", "7 1 0.002 2500 0.0025 0.003 0 0 0")),
              Contains(f + ":12: expected 7 values (id type diameter density x y z) or 10 (with image flags ix iy iz), got 9"));
   CHECK_THAT(error(replaced(two_atoms, "3 1 0.0017", "7 1 0.0017")), Contains(f + ":13: atom id 7 is given twice (also at line 12)"));
-  CHECK_THAT(error(replaced(two_atoms, "3 1 0.0017", "3 1 -0.0017")), Contains(f + ":13: diameter -0.0017: a particle needs a positive diameter"));
-  CHECK_THAT(error(replaced(two_atoms, "3 1 0.0017", "3 1 0")), Contains(f + ":13: diameter 0: a particle needs a positive diameter"));
+  CHECK_THAT(error(replaced(two_atoms, "3 1 0.0017", "3 1 -0.0017")), Contains(f + ":13: diameter -0.0017: expected a radius in [1e-9, 1e6] m"));
+  CHECK_THAT(error(replaced(two_atoms, "3 1 0.0017", "3 1 0")), Contains(f + ":13: diameter 0: expected a radius in [1e-9, 1e6] m"));
+  // A size a scene's radius: key would refuse is refused from a file too.
+  CHECK_THAT(error(replaced(two_atoms, "3 1 0.0017", "3 1 1e-300")), Contains(f + ":13: diameter 1e-300: expected a radius in [1e-9, 1e6] m"));
   CHECK_THAT(error(replaced(two_atoms, "Atoms # sphere", "Atomz # sphere")),
              Contains(f + ":10: the section 'Atomz' is not read by kiln: it reads 'Atoms' or 'Velocities'"));
   CHECK_THAT(error(replaced(two_atoms, "Atoms # sphere", "Atoms # atomic")), Contains(f + ":10: an Atoms section of atom_style atomic"));
@@ -198,8 +200,8 @@ TEST_CASE("every error of a particle CSV names the file, the line and what is wr
   CHECK_THAT(error(ok + "0.02,0\n"), Contains(f + ":4: expected 3 fields (as the header at line 1 names), got 2"));
   CHECK_THAT(error(ok + "0.02,0,1mm\n"), Contains(f + ":4: column 'radius': '1mm' is not a number"));
   CHECK_THAT(error(ok + "0.02,nan,0.001\n"), Contains(f + ":4: column 'y': 'nan' is not a number"));
-  CHECK_THAT(error(ok + "0.02,0,0\n"), Contains(f + ":4: radius 0: a particle needs a positive size"));
-  CHECK_THAT(error("id,x,y,diameter\n1,0,0,0.002\n2,0,0,-1\n"), Contains(f + ":3: diameter -1: a particle needs a positive size"));
+  CHECK_THAT(error(ok + "0.02,0,0\n"), Contains(f + ":4: radius 0: expected a radius in [1e-9, 1e6] m"));
+  CHECK_THAT(error("id,x,y,diameter\n1,0,0,0.002\n2,0,0,-1\n"), Contains(f + ":3: diameter -1: expected a radius in [1e-9, 1e6] m"));
   CHECK_THAT(error("id,x,y,diameter\n1,0,0,0.002\n1,0,0,0.002\n"), Contains(f + ":3: id 1 is given twice (also at line 2)"));
   CHECK_THAT(error("id,x,y,diameter\n1.5,0,0,0.002\n"), Contains(f + ":2: column 'id': '1.5' is not a whole number"));
   CHECK_THAT(error("x,y,radius,temperature\n0,0,0.001,-300\n"), Contains(f + ":2: temperature -300 C is below absolute zero"));
@@ -273,7 +275,7 @@ t_end: 0.001
   // An error inside the file names the scene's key and the file's line.
   write(dir / "piles" / "bad.csv", "x,y,radius\n0,0,-1\n");
   CHECK_THAT(error("file: piles/set.csv}", "file: piles/bad.csv}"),
-             Contains(at + ".file': " + (dir / "piles" / "bad.csv").string() + ":2: radius -1: a particle needs a positive size"));
+             Contains(at + ".file': " + (dir / "piles" / "bad.csv").string() + ":2: radius -1: expected a radius in [1e-9, 1e6] m"));
   // The data file's densities are the material's.
   CHECK(error("density: 2500", "density: 2000").empty());  // a CSV carries none
   try {

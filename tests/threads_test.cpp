@@ -43,7 +43,6 @@ std::vector<double> final_state(const std::string& integrator, int threads, int 
   auto stepper = make_integrator(integrator);
   stepper->start(system, 0, y.data(), scene.dt);
   for (int k = 0; k < steps; ++k) stepper->step();
-  stepper->settle();
   omp_set_num_threads(before);
   REQUIRE(system.particle_contacts().size() > 16 * sum_block);  // many blocks: the sums are split
   REQUIRE(system.particles() > 8192);
