@@ -380,7 +380,7 @@ int main(int argc, char** argv) {
   CLI::App* cases_cmd = app.add_subcommand("cases", "list the shipped cases");
   CLI::App* integrators_cmd = app.add_subcommand("integrators", "list the integrators with their orders");
   kiln::BenchOptions bench;
-  CLI::App* bench_cmd = app.add_subcommand("bench", "particle-steps per second on the benchmark pile (../shared/BENCH.md)");
+  CLI::App* bench_cmd = app.add_subcommand("bench", "particle-steps per second on the benchmark pile (README: Performance)");
   // The period must hold four of the largest diameters (2.4 mm): 4 columns of 2.5 mm.
   bench_cmd->add_option("--columns", bench.columns, "lattice columns: 50 rows x columns discs (20: 1,000; 200: 10,000)")
       ->check(CLI::Range(4, 4000));

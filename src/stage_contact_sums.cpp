@@ -18,17 +18,21 @@ void DemSystem::rows_to_particles(Evaluation& e) {
 #pragma omp parallel for schedule(static) if (parallel_worthwhile(n_))
   for (int i = 0; i < n_; ++i) {
     double fx = 0, fy = 0, torque = 0, gx = 0, gy = 0, dx = 0, dy = 0, heat = 0;
-    for (int p = by_i[i]; p < by_i[i + 1]; ++p) {
-      const ContactRow& r = pair[p];
-      fx += r.fx;
-      fy += r.fy;
-      torque += r.torque_i;
-      gx += r.gx;
-      gy += r.gy;
-      dx += r.dx;
-      dy += r.dy;
-      if (pair_heat) heat += pair_heat[p].to_i;
-    }
+    // The rows where the particle is the contact's first body (a pair's i, or against a wall).
+    auto add_as_first = [&](const ContactRow* rows, const HeatRow* heat_rows, int begin, int end) {
+      for (int p = begin; p < end; ++p) {
+        const ContactRow& r = rows[p];
+        fx += r.fx;
+        fy += r.fy;
+        torque += r.torque_i;
+        gx += r.gx;
+        gy += r.gy;
+        dx += r.dx;
+        dy += r.dy;
+        if (heat_rows) heat += heat_rows[p].to_i;
+      }
+    };
+    add_as_first(pair, pair_heat, by_i[i], by_i[i + 1]);
     for (int k = by_j[i]; k < by_j[i + 1]; ++k) {
       const int p = by_j_rows[k];
       const ContactRow& r = pair[p];
@@ -41,17 +45,7 @@ void DemSystem::rows_to_particles(Evaluation& e) {
       dy -= r.dy;
       if (pair_heat) heat += pair_heat[p].to_j;
     }
-    for (int p = wall_by_i[i]; p < wall_by_i[i + 1]; ++p) {
-      const ContactRow& r = wall[p];
-      fx += r.fx;
-      fy += r.fy;
-      torque += r.torque_i;
-      gx += r.gx;
-      gy += r.gy;
-      dx += r.dx;
-      dy += r.dy;
-      if (wall_heat) heat += wall_heat[p].to_i;
-    }
+    add_as_first(wall, wall_heat, wall_by_i[i], wall_by_i[i + 1]);
     e.fx[i] = fx;
     e.fy[i] = fy;
     e.gd[i] = dx;
