@@ -493,8 +493,18 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
     if (ps.has("attach") && ps.has("fixed")) ps.fail("give one of 'attach' (a wall's name) or 'fixed', not both");
     // An attached or fixed particle moves with its wall: a velocity of its own would not be read.
     if (ps.has("attach") || (ps.has("fixed") && ps["fixed"].boolean()))
+    {
       for (const char* key : {"velocity", "angular_velocity", "random_velocity"})
         if (ps.has(key)) ps[key].fail("attached and fixed particles move with their wall: remove it");
+      // A file's velocities would be dropped as silently: only zeros (a settled pile's) are taken.
+      const bool moving = file && (std::any_of(file->velocity.begin(), file->velocity.end(),
+                                               [](Vec2 v) { return v.x != 0 || v.y != 0; }) ||
+                                   std::any_of(file->angular_velocity.begin(), file->angular_velocity.end(),
+                                               [](double w) { return w != 0; }));
+      if (moving)
+        ps["file"].fail("attached and fixed particles move with their wall, but the file gives some of them a "
+                        "velocity or spin: set those to 0");
+    }
     const int count = static_cast<int>(placed.radius.size());
     if (auto a = ps.optional("attach")) attachments.push_back({*a, false, scene.n_particles(), count});
     if (auto f = ps.optional("fixed"); f && f->boolean()) attachments.push_back({*f, true, scene.n_particles(), count});

@@ -272,6 +272,11 @@ t_end: 0.001
              Contains(at + ".format': 'format' does not apply here"));
   CHECK_THAT(error("file: piles/set.csv}", "file: piles/set.csv, at: [[0, 0.01]]}"),
              Contains("give exactly one of 'at' (a list of positions), 'fill', 'lattice' or 'file'"));
+  // Fixed particles do not move: a file's velocities for them are refused, not dropped.
+  CHECK_THAT(error("file: piles/set.csv}", "file: piles/set.csv, fixed: true}"),
+             Contains(at + ".file': attached and fixed particles move with their wall, but the file gives some of them"));
+  write(dir / "piles" / "still.csv", "x,y,radius,vx,temperature\n0.01,0.01,0.002,0,80\n0.02,0.01,0.002,0,20\n");
+  CHECK(error("file: piles/set.csv}", "file: piles/still.csv, fixed: true}").empty());
   // An error inside the file names the scene's key and the file's line.
   write(dir / "piles" / "bad.csv", "x,y,radius\n0,0,-1\n");
   CHECK_THAT(error("file: piles/set.csv}", "file: piles/bad.csv}"),
