@@ -7,7 +7,7 @@ void ContactList::replace(const std::vector<CandidatePair>& fresh, int particles
   // The merge writes into the trial arrays (copied from the committed ones below anyway) and a
   // scratch array kept for the next rebuild: once the lists have reached their size, rebuilds
   // allocate nothing (freed and reallocated blocks grew a 100,000-disc run's peak by a third).
-  std::vector<uint8_t>& kept_active = active_scratch_;
+  std::vector<uint8_t>& kept_active = scratch_active;
   kept_active.assign(n, 2);
   std::vector<double>& kept_spring = trial;
   std::vector<double>& kept_roll = trial_roll;
@@ -59,8 +59,8 @@ void ContactList::index(int particles, bool pairs) {
   if (!pairs) return;
   for (size_t p = 0; p < n; ++p) ++by_j[j[p] + 1];
   for (int q = 0; q < particles; ++q) by_j[q + 1] += by_j[q];
-  next_scratch_.assign(by_j.begin(), by_j.end() - 1);
-  for (size_t p = 0; p < n; ++p) by_j_rows[next_scratch_[j[p]]++] = static_cast<int>(p);
+  scratch_next.assign(by_j.begin(), by_j.end() - 1);
+  for (size_t p = 0; p < n; ++p) by_j_rows[scratch_next[j[p]]++] = static_cast<int>(p);
 }
 
 namespace {

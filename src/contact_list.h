@@ -58,8 +58,8 @@ struct ContactList {
   // Checkpoints: the pairs, their coefficients and their history, under keys starting with `prefix`.
   void save(Snapshot& s, const std::string& prefix) const;
   void restore(const Snapshot& s, const std::string& prefix);
-  std::vector<uint8_t> active_scratch_;  // replace()'s and index()'s, kept: no allocation per rebuild
-  std::vector<int> next_scratch_;
+  std::vector<uint8_t> scratch_active;  // replace()'s and index()'s, kept: no allocation per rebuild
+  std::vector<int> scratch_next;
   void commit() {
     spring.swap(trial);
     roll.swap(trial_roll);

@@ -282,6 +282,14 @@ class DemSystem final : public OdeSystem {
 
   // Conduction (stage_conduction.cpp).
   double pair_conductance(const double* px, const double* py, int p) const;
+  // ... of candidate p, touching, its centres `dist` apart with `overlap` (inlined in the contact
+  // pass, which has the geometry already). Hertz conductance takes the elastic normal force: the
+  // contact radius is set by the elastic deformation, the dashpot does not widen it.
+  double touching_pair_conductance(int p, double dist, double overlap) const {
+    const ContactCoefficients& lf = laws_[pp_.law[p]];
+    const double elastic = contact::normal_force({pp_.k[p], pp_.c[p], lf.hertz, lf.tension}, overlap, 0.0);
+    return thermal::conductance(lf.conduction, radius_[pp_.i[p]], radius_[pp_.j[p]], dist, elastic);
+  }
   double wall_conductance(const double* px, const double* py, const std::vector<Vec2>& a, const std::vector<Vec2>& b,
                           int p, int& wall) const;
   double conduct(double t, const double* y, const double* temp, double* heat, bool wall_sources) const;

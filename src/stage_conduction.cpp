@@ -5,8 +5,6 @@
 namespace kiln {
 
 // Conductance of candidate pair p, 0 unless its discs touch (and, with contact events, it acts).
-// Hertz conductance takes the elastic normal force: the contact radius is set by the elastic
-// deformation, the dashpot does not widen it.
 double DemSystem::pair_conductance(const double* px, const double* py, int p) const {
   if (events_ && !pp_.active[p]) return 0;
   const int i = pp_.i[p], j = pp_.j[p];
@@ -14,10 +12,8 @@ double DemSystem::pair_conductance(const double* px, const double* py, int p) co
   const double rsum = radius_[i] + radius_[j];
   const double d2 = dv.x * dv.x + dv.y * dv.y;
   if (d2 >= rsum * rsum) return 0;
-  const double d = std::sqrt(d2), overlap = rsum - d;
-  const ContactCoefficients& lf = laws_[pp_.law[p]];
-  const double fn = contact::normal_force({pp_.k[p], pp_.c[p], lf.hertz, lf.tension}, overlap, 0.0);
-  return thermal::conductance(lf.conduction, radius_[i], radius_[j], d, fn);
+  const double d = std::sqrt(d2);
+  return touching_pair_conductance(p, d, rsum - d);
 }
 
 // Conductance between particle pw.i[p] and its wall segment (walls at their geometry a, b), 0

@@ -43,10 +43,7 @@ void DemSystem::particle_contact_forces(Evaluation& e) {
       const double dist = std::sqrt(d2);
       const double overlap = rsum - dist;
       if (temp) {
-        // Conductance with the elastic normal force: the dashpot does not widen the contact.
-        const ContactCoefficients& lf = laws_[pp_.law[p]];
-        const double elastic = contact::normal_force({pp_.k[p], pp_.c[p], lf.hertz, lf.tension}, overlap, 0.0);
-        const double h = thermal::conductance(lf.conduction, radius_[i], radius_[j], dist, elastic);
+        const double h = touching_pair_conductance(p, dist, overlap);
         const double q = h * (temp[j] - temp[i]);
         pp_.heat_rows[p] = {q, -q, h};
         if (walls_both) continue;
