@@ -11,7 +11,7 @@
 #include <arkode/arkode_butcher_erk.h>
 
 #include "integrators/vector_kernels.h"
-#include "src/error.h"
+#include "src/base/error.h"
 
 namespace kiln {
 

@@ -11,8 +11,8 @@
 #include "integrators/integrator.h"
 #include "integrators/velocity_verlet.h"
 #include "integrators/verlet.h"
-#include "src/error.h"
-#include "src/nearest.h"
+#include "src/base/error.h"
+#include "src/base/nearest.h"
 
 namespace kiln {
 

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "src/parallel.h"
+#include "src/base/parallel.h"
 
 namespace kiln {
 

@@ -6,7 +6,7 @@
 #include <vector>
 
 #include "integrators/integrator.h"
-#include "src/parallel.h"
+#include "src/base/parallel.h"
 
 namespace kiln {
 

@@ -1,5 +1,5 @@
 #!/bin/sh
-# Regenerates the measured columns of tests/verification_matrix.tsv (order, order_tol, bound, and
+# Regenerates the measured columns of tests/studies/verification_matrix.tsv (order, order_tol, bound, and
 # the reason's TODO marks) from the rows' own studies, run by the test binary in measuring mode:
 #
 #   scripts/verification_matrix.sh [BUILD_DIR] [CATCH_TEST_SPEC]
@@ -21,7 +21,7 @@ here=$(cd "$(dirname "$0")/.." && pwd)
 build=${1:-build}
 spec=${2:-[rows]}
 case $build in /*) ;; *) build="$here/$build" ;; esac
-table="$here/tests/verification_matrix.tsv"
+table="$here/tests/studies/verification_matrix.tsv"
 measured=$(mktemp)
 trap 'rm -f "$measured"' EXIT
 KILN_MATRIX_MEASURE="$measured" "$build/kiln_tests" "$spec" >/dev/null 2>&1 || true

@@ -15,9 +15,9 @@
 #include <filesystem>
 
 #include "integrators/integrator.h"
-#include "src/dem_system.h"
-#include "src/error.h"
-#include "src/scene_yaml.h"
+#include "src/dem/dem_system.h"
+#include "src/base/error.h"
+#include "src/scene/scene_yaml.h"
 
 namespace kiln::testing {
 

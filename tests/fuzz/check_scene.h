@@ -1,5 +1,5 @@
 // What the scene fuzzer does with one input, shared with the test that replays its findings
-// (tests/hostile_input_test.cpp): the path `kiln check` takes up to its verdict (read and
+// (tests/scene/hostile_input_test.cpp): the path `kiln check` takes up to its verdict (read and
 // validate, make the integrator, estimate the time step, judge dt), without running. A bad scene
 // ends in an InputError, which is caught; anything else escapes and is a finding, as is a scene
 // that loads but breaks what it promises the run (a trap, below).
@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "integrators/integrator.h"
-#include "src/error.h"
-#include "src/scene_yaml.h"
-#include "src/stability.h"
+#include "src/base/error.h"
+#include "src/scene/scene_yaml.h"
+#include "src/run/stability.h"
 
 namespace kiln::fuzz {
 

@@ -1,0 +1,15 @@
+// Files written whole or not at all: a reader never sees a half-written file under a final name.
+#pragma once
+#include <string>
+
+namespace kiln {
+
+// Writes `text` to path, every write checked: a full disk is an OutputError naming the file,
+// and the partial file is removed.
+void write_file(const std::string& path, const std::string& text);
+// The same via path + ".tmp" and a rename, so no half-written file is left under `path`.
+void write_file_atomically(const std::string& path, const std::string& text);
+// Renames a finished temporary file to its final name (OutputError naming both on failure).
+void publish(const std::string& tmp, const std::string& path);
+
+}  // namespace kiln

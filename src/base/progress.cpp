@@ -1,0 +1,43 @@
+#include "src/base/progress.h"
+
+#include <unistd.h>
+
+#include <cstdio>
+
+namespace kiln {
+
+Progress::Progress(std::string label, bool quiet)
+    : label_(std::move(label)), enabled_(!quiet && isatty(STDERR_FILENO)) {
+  start_ = last_ = std::chrono::steady_clock::now();
+}
+
+void Progress::update(double t, double t_end) {
+  if (!enabled_) return;
+  char what[96];
+  std::snprintf(what, sizeof what, "t = %.4g s of %.4g s", t, t_end);
+  show(t / t_end, what);
+}
+
+void Progress::update_runs(long done, long total) {
+  if (!enabled_) return;
+  show(static_cast<double>(done) / total, std::to_string(done) + " of " + std::to_string(total) + " runs");
+}
+
+void Progress::show(double done, const std::string& what) {
+  const auto now = std::chrono::steady_clock::now();
+  if (now - last_ < std::chrono::milliseconds(500)) return;
+  last_ = now;
+  const double elapsed = std::chrono::duration<double>(now - start_).count();
+  char left[48] = "";
+  if (done > 0) std::snprintf(left, sizeof left, ", about %.0f s left", elapsed * (1 - done) / done);
+  std::fprintf(stderr, "\r%s: %s (%3.0f%%), %.0f s elapsed%s   ", label_.c_str(), what.c_str(), 100 * done, elapsed,
+               left);
+  shown_ = true;
+}
+
+void Progress::finish() {
+  if (shown_) std::fprintf(stderr, "\n");
+  shown_ = false;
+}
+
+}  // namespace kiln

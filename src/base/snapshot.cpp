@@ -1,0 +1,119 @@
+#include "src/base/snapshot.h"
+
+#include <hdf5.h>
+
+#include <cstdio>
+#include <filesystem>
+
+#include "src/base/error.h"
+#include "src/base/h5_errors.h"
+
+namespace kiln {
+
+namespace {
+
+template <class Map>
+const typename Map::mapped_type& find(const Map& map, const std::string& key, const std::string& source) {
+  const auto it = map.find(key);
+  if (it == map.end())
+    throw InputError(source + ": this checkpoint lacks '" + key + "' (written by another version of kiln?)");
+  return it->second;
+}
+
+void write_array(hid_t group, const std::string& key, hid_t type, const void* data, size_t n, const std::string& path) {
+  const hsize_t dims[] = {static_cast<hsize_t>(n)};
+  const hid_t space = H5Screate_simple(1, dims, nullptr);
+  const hid_t ds = H5Dcreate2(group, key.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  herr_t status = ds < 0 ? -1 : n == 0 ? 0 : H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
+  if (ds >= 0 && H5Dclose(ds) < 0) status = -1;
+  H5Sclose(space);
+  h5_check(status, ("write '" + key + "' to").c_str(), path);
+}
+
+// Calls read(name, dataset) for every dataset of a group.
+template <class F>
+void each_dataset(hid_t file, const char* group_name, const std::string& path, F read) {
+  const hid_t group = h5_id(H5Gopen2(file, group_name, H5P_DEFAULT), "read the checkpoint", path);
+  H5G_info_t info;
+  h5_check(H5Gget_info(group, &info), "read the checkpoint", path);
+  for (hsize_t k = 0; k < info.nlinks; ++k) {
+    char name[1024];
+    H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT);
+    const hid_t ds = h5_id(H5Dopen2(group, name, H5P_DEFAULT), "read the checkpoint", path);
+    const hid_t space = H5Dget_space(ds);
+    const hssize_t n = H5Sget_simple_extent_npoints(space);
+    H5Sclose(space);
+    read(std::string(name), ds, static_cast<size_t>(n));
+    H5Dclose(ds);
+  }
+  H5Gclose(group);
+}
+
+}  // namespace
+
+const std::vector<double>& Snapshot::reals(const std::string& key) const { return find(reals_, key, source_); }
+const std::vector<long long>& Snapshot::integers(const std::string& key) const {
+  return find(integers_, key, source_);
+}
+const std::string& Snapshot::text(const std::string& key) const { return find(texts_, key, source_); }
+
+void Snapshot::write(const std::string& path) const {
+  h5_setup();
+  const std::string tmp = path + ".tmp";
+  const hid_t file = h5_id(H5Fcreate(tmp.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), "create", tmp);
+  try {
+    auto group = [&](const char* name) {
+      return h5_id(H5Gcreate2(file, name, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "write", tmp);
+    };
+    const hid_t real = group("real"), integer = group("integer"), text = group("text");
+    for (const auto& [key, v] : reals_) write_array(real, key, H5T_NATIVE_DOUBLE, v.data(), v.size(), tmp);
+    for (const auto& [key, v] : integers_) write_array(integer, key, H5T_NATIVE_LLONG, v.data(), v.size(), tmp);
+    for (const auto& [key, v] : texts_) write_array(text, key, H5T_NATIVE_UCHAR, v.data(), v.size(), tmp);
+    for (hid_t g : {real, integer, text}) h5_check(H5Gclose(g), "write", tmp);
+    h5_check(H5Fclose(file), "finish writing", tmp);
+  } catch (...) {
+    H5Fclose(file);
+    H5Eclear2(H5E_DEFAULT);
+    std::remove(tmp.c_str());
+    throw;
+  }
+  std::error_code error;
+  std::filesystem::rename(tmp, path, error);
+  if (error) throw OutputError("cannot rename " + tmp + " to " + path + ": " + error.message());
+}
+
+Snapshot Snapshot::read(const std::string& path) {
+  h5_setup();
+  Snapshot s;
+  s.source_ = path;
+  if (H5Fis_hdf5(path.c_str()) <= 0) {
+    H5Eclear2(H5E_DEFAULT);
+    throw InputError(path + ": not a kiln checkpoint (not an HDF5 file, or not readable)");
+  }
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (file < 0 || H5Lexists(file, "real", H5P_DEFAULT) <= 0 || H5Lexists(file, "text", H5P_DEFAULT) <= 0 ||
+      H5Lexists(file, "integer", H5P_DEFAULT) <= 0) {
+    if (file >= 0) H5Fclose(file);
+    H5Eclear2(H5E_DEFAULT);
+    throw InputError(path + ": not a kiln checkpoint (no real, integer and text groups)");
+  }
+  each_dataset(file, "real", path, [&](const std::string& key, hid_t ds, size_t n) {
+    std::vector<double>& v = s.reals_[key];
+    v.resize(n);
+    if (n) h5_check(H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "read", path);
+  });
+  each_dataset(file, "integer", path, [&](const std::string& key, hid_t ds, size_t n) {
+    std::vector<long long>& v = s.integers_[key];
+    v.resize(n);
+    if (n) h5_check(H5Dread(ds, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "read", path);
+  });
+  each_dataset(file, "text", path, [&](const std::string& key, hid_t ds, size_t n) {
+    std::string& v = s.texts_[key];
+    v.resize(n);
+    if (n) h5_check(H5Dread(ds, H5T_NATIVE_UCHAR, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()), "read", path);
+  });
+  H5Fclose(file);
+  return s;
+}
+
+}  // namespace kiln

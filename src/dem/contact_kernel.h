@@ -1,0 +1,100 @@
+// The contact kernel: one touching contact, particle-particle or particle-wall, from its
+// kinematics to its forces and what they dissipate, with the history of its tangential and
+// rolling springs. Included by the two contact stages, where it inlines into their loops.
+//
+// A wall is the other body with no lever arm and no mass of its own: its velocity at the contact
+// point is in the relative velocity, its spin turns the rolling spring.
+#pragma once
+#include <cmath>
+
+#include "src/dem/dem_system.h"
+
+namespace kiln {
+
+namespace kernel {
+// Linear(ised) normal stiffness: k, or dF/d(overlap) of the Hertz spring, 3/2 k delta^1/2. The
+// tangential and rolling springs scale with it.
+inline double linearised_stiffness(const contact::NormalLaw& nl, double overlap) {
+  return nl.hertz ? 1.5 * nl.k * std::sqrt(std::fmax(overlap, 0.0)) : nl.k;
+}
+}  // namespace kernel
+
+inline void DemSystem::forget(ContactList& list, int p) {
+  list.trial[p] = 0;
+  list.trial_roll[p] = 0;
+  list.trial_frame[p] = {};
+}
+
+inline DemSystem::PairMasses DemSystem::pair_masses(int i, int j) const {
+  if (j < 0) return {mass_[i], inertia_[i] + mass_[i] * radius_[i] * radius_[i], radius_[i], inertia_[i]};
+  const double ri = inertia_[i] + mass_[i] * radius_[i] * radius_[i];
+  const double rj = inertia_[j] + mass_[j] * radius_[j] * radius_[j];
+  return {mass_[i] * mass_[j] / (mass_[i] + mass_[j]), ri * rj / (ri + rj),
+          radius_[i] * radius_[j] / (radius_[i] + radius_[j]), inertia_[i] * inertia_[j] / (inertia_[i] + inertia_[j])};
+}
+
+inline contact::TangentialLaw DemSystem::tangential_law(const ContactCoefficients& lf, const contact::NormalLaw& nl,
+                                                        double overlap) const {
+  const double quarter = nl.hertz ? std::sqrt(std::sqrt(std::fmax(overlap, 0.0))) : 1.0;
+  return {lf.kt_ratio * kernel::linearised_stiffness(nl, overlap), lf.ct_ratio * nl.c * quarter, lf.mu};
+}
+
+inline contact::RollingLaw DemSystem::rolling_law(const ContactCoefficients& lf, const contact::NormalLaw& nl,
+                                                  double overlap, const PairMasses& pm, double normal) const {
+  return contact::rolling_law(lf.rolling_model, lf.mu_roll, kernel::linearised_stiffness(nl, overlap), pm.r_eff,
+                              pm.inertia, pm.spin_inertia, pm.m_eff, lf.eta_roll, normal);
+}
+
+// The normal force, then (with history) the tangential and rolling springs: their trial values
+// are the committed ones plus what the contact points moved since the committed frame. Inlined
+// into each contact loop: called out of line it cost a call and a round trip of its arguments
+// through memory per contact.
+[[gnu::always_inline]] inline DemSystem::ContactForces DemSystem::contact(ContactList& list, int p, const ContactKinematics& c) {
+  ContactForces f;
+  const double nx = c.frame.nx, ny = c.frame.ny;
+  const double vn = c.rv.x * nx + c.rv.y * ny;      // approach speed
+  const double drift = -c.rv.x * ny + c.rv.y * nx;  // the relative velocity along t
+  const ContactCoefficients& lf = laws_[list.law[p]];
+  const contact::NormalLaw nl{list.k[p], list.c[p], lf.hertz, lf.tension};
+  const double fn = contact::normal_force(nl, c.overlap, vn);
+  f.damping_power = contact::normal_dissipation(nl, c.overlap, vn, fn);
+  f.dashpot = contact::dashpot_force(nl, c.overlap, fn);  // damping_power = dashpot vn
+  if (list.history && (lf.tangential || lf.rolling)) {
+    const contact::ContactFrame& from = list.frame[p];
+    const bool known = from.known();  // a contact that began in this step starts unstretched
+    if (lf.tangential) {
+      const double slip_speed = drift + c.w_i * c.arm_i + c.w_other * c.arm_other;
+      const contact::TangentialLaw law = tangential_law(lf, nl, c.overlap);
+      const double trial =
+          known ? list.spring[p] +
+                      contact::tangential_displacement(from, c.frame, c.arm_then, c.arm_i, c.spun_i, c.spun_other)
+                : 0.0;
+      const contact::TangentialResult t = contact::tangential_force(law, trial, slip_speed, fn);
+      list.trial[p] = t.spring;
+      f.tangential = t.force;
+      f.work_rate -= t.force * slip_speed;
+    }
+    if (lf.rolling) {
+      const double relative_spin = c.w_i - c.w_other;
+      const contact::RollingLaw law = rolling_law(lf, nl, c.overlap, pair_masses(c.i, c.j), fn);
+      const double trial = known ? list.roll[p] + (c.spun_i - c.spun_other) : 0.0;
+      const contact::RollingResult r = contact::rolling_torque(law, trial, relative_spin);
+      list.trial_roll[p] = r.spring;
+      f.couple = r.torque;
+      f.work_rate -= r.torque * relative_spin;
+    }
+    // Field by field: a struct copy through the stack stalled store forwarding (15 % of a run).
+    contact::ContactFrame& to = list.trial_frame[p];
+    to.nx = c.frame.nx;
+    to.ny = c.frame.ny;
+    to.rho_t = c.frame.rho_t;
+    to.rho_n = c.frame.rho_n;
+  } else if (list.history) {
+    forget(list, p);
+  }
+  f.fx = -fn * nx - f.tangential * ny;
+  f.fy = -fn * ny + f.tangential * nx;
+  return f;
+}
+
+}  // namespace kiln

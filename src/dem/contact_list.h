@@ -1,0 +1,70 @@
+// Candidate contacts in flat arrays (structure of arrays), with their history: the tangential
+// and rolling springs and the contact frame they are measured from (contact/contact_frame.h).
+// Rebuilt only between steps; a rebuild carries each surviving pair's history over by a merge
+// of the two sorted lists (no map, no per-contact allocation).
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "contact/contact_frame.h"
+#include "src/geometry/broadphase.h"
+#include "src/base/snapshot.h"
+
+namespace kiln {
+
+// What one contact did at the latest evaluation, written by that contact alone: threads never
+// write the same memory, and each particle then sums the rows it is in, in a fixed order, so
+// results do not depend on the number of threads. A contact not touching has a row of zeros.
+// Particle j of a pair gets minus the forces and work forces, and torque_j.
+struct ContactRow {
+  double fx = 0, fy = 0;              // contact force on i (N)
+  double torque_i = 0, torque_j = 0;  // contact torques on i and on j (N m)
+  double gx = 0, gy = 0;              // friction's work force on i: F_t (n_y, -n_x) (N)
+  double dx = 0, dy = 0;              // the dashpot's work force on i: F_dashpot n (N)
+};
+// Heat rows of a thermal scene: the heat that reaches i and j through the contact (W), made by
+// its dissipation or (full evaluations) conducted, and (full evaluations) its conductance (W/K),
+// which gives conduction's Jacobian at that state without the geometry again.
+struct HeatRow {
+  double to_i = 0, to_j = 0, conductance = 0;
+};
+
+struct ContactList {
+  std::vector<int> i, j;        // particle i; particle j (i < j) or segment j
+  std::vector<double> k, c;     // normal law coefficients for this pair (k_t, c_t are fixed ratios)
+  std::vector<uint16_t> law;    // material-pair index (friction, rolling, law flags)
+  std::vector<uint8_t> active;  // contact events: acting within the current step (2: not yet known)
+  // History, kept only when `history` is set (friction or rolling resistance somewhere): the
+  // committed springs and frame of the last accepted step, and the trial ones of the latest
+  // evaluation, which become committed when its step is accepted.
+  bool history = false;
+  std::vector<double> spring, trial;            // tangential elongation (m)
+  std::vector<double> roll, trial_roll;         // rolling spring angle (rad)
+  std::vector<contact::ContactFrame> frame, trial_frame;
+
+  // Rows of the latest evaluation (one per candidate), and where each particle finds its rows:
+  // those where it is i are the range [by_i[k], by_i[k + 1]) (the list is sorted by i); for a
+  // particle list, those where it is j are by_j_rows[by_j[k] .. by_j[k + 1]), in ascending order.
+  std::vector<ContactRow> rows;
+  std::vector<HeatRow> heat_rows;
+  std::vector<int> by_i, by_j, by_j_rows;
+
+  int size() const { return static_cast<int>(i.size()); }
+  // Takes the sorted candidate pairs of `particles` particles; pairs present before keep their
+  // committed history. `pairs`: j is a particle (indexed by_j too), not a wall segment.
+  void replace(const std::vector<CandidatePair>& fresh, int particles, bool pairs);
+  // Sizes the rows and finds each particle's rows (after replace() or restore()).
+  void index(int particles, bool pairs);
+  // Checkpoints: the pairs, their coefficients and their history, under keys starting with `prefix`.
+  void save(Snapshot& s, const std::string& prefix) const;
+  void restore(const Snapshot& s, const std::string& prefix);
+  std::vector<uint8_t> scratch_active;  // replace()'s and index()'s, kept: no allocation per rebuild
+  std::vector<int> scratch_next;
+  void commit() {
+    spring.swap(trial);
+    roll.swap(trial_roll);
+    frame.swap(trial_frame);
+  }
+};
+
+}  // namespace kiln

@@ -1,0 +1,374 @@
+#include "src/dem/dem_system.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "src/base/error.h"
+#include "src/base/parallel.h"
+#include "src/scene/wall_geometry.h"
+
+namespace kiln {
+
+double disc_mass(const Scene& scene, double r, double density) {
+  return scene.mass_model == MassModel::sphere ? 4.0 / 3.0 * M_PI * r * r * r * density
+                                               : M_PI * r * r * scene.thickness * density;
+}
+
+double disc_inertia(const Scene& scene, double m, double r) {
+  return (scene.mass_model == MassModel::sphere ? 0.4 : 0.5) * m * r * r;
+}
+
+namespace {
+
+double automatic_skin(const Scene& scene) {
+  double sum = 0;
+  for (double r : scene.radius) sum += 2 * r;
+  return scene.radius.empty() ? 1e-3 : 0.2 * sum / scene.radius.size();
+}
+
+// What a wall's torque is taken about: its centre of rotation, else the mean of its end points.
+Vec2 wall_reference(const Scene& scene, int w) {
+  const WallMotion& m = scene.walls[w].motion;
+  if (m.kind == WallMotion::Kind::rotate) return m.centre;
+  Vec2 sum;
+  int count = 0;
+  for (const Segment& s : scene.segments)
+    if (s.wall == w) {
+      sum = sum + s.a + s.b;
+      count += 2;
+    }
+  return count ? (1.0 / count) * sum : Vec2{};
+}
+
+}  // namespace
+
+DemSystem::DemSystem(const Scene& scene)
+    : scene_(scene),
+      cell_(scene.periodic),
+      n_(scene.n_particles()),
+      base_skin_(scene.skin > 0 ? scene.skin : automatic_skin(scene)),
+      broadphase_(base_skin_) {
+  const int nm = scene.n_materials();
+  for (int a = 0; a < nm; ++a)
+    for (int b = 0; b < nm; ++b) laws_.push_back(contact_coefficients(scene, a, b));
+  // A scene that uses friction or rolling resistance anywhere carries rotation and contact
+  // history; otherwise discs cannot spin and no angles are integrated.
+  std::vector<bool> used(nm, false);
+  for (int i = 0; i < n_; ++i) {
+    used[scene.material[i]] = true;
+    rotates_ = rotates_ || scene.angular_velocity[i] != 0;
+  }
+  bool history = false;
+  for (int a = 0; a < nm; ++a)
+    for (int b = 0; b < nm && used[a]; ++b) history = history || laws_[a * nm + b].tangential || laws_[a * nm + b].rolling;
+  rotates_ = rotates_ || history;
+  pp_.history = pw_.history = history;
+  thermal_ = scene.thermal;
+  events_ = scene.control.contact_events;
+  layout_.nq = (rotates_ ? 3 : 2) * n_;
+  layout_.nz = ledger_count() + (thermal_ ? n_ : 0);
+  heat_power_factor_friction_ = scene.heat_from_dissipation != HeatFromDissipation::none;
+  heat_power_factor_damping_ = scene.heat_from_dissipation == HeatFromDissipation::all;
+
+  radius_ = scene.radius;
+  for (double r : radius_) inv_radius_.push_back(1 / r);
+  material_ = scene.material;
+  for (int i = 0; i < n_; ++i) {
+    const double m = disc_mass(scene, radius_[i], scene.materials[material_[i]].density);
+    mass_.push_back(m);
+    inv_mass_.push_back(1 / m);
+    inertia_.push_back(disc_inertia(scene, m, radius_[i]));
+    inv_inertia_.push_back(1 / inertia_.back());
+    if (thermal_) {
+      capacity_.push_back(m * scene.materials[material_[i]].specific_heat);
+      inv_capacity_.push_back(1 / capacity_.back());
+    }
+  }
+  for (size_t w = 0; w < scene.walls.size(); ++w) {
+    moving_walls_ = moving_walls_ || scene.walls[w].motion.kind != WallMotion::Kind::fixed;
+    wall_reference_.push_back(wall_reference(scene, static_cast<int>(w)));
+    const bool body = scene.walls[w].motion.kind == WallMotion::Kind::load_controlled;
+    body_of_wall_.push_back(body ? static_cast<int>(body_wall_.size()) : -1);
+    if (body) body_wall_.push_back(static_cast<int>(w));
+  }
+  layout_.nq += bodies();
+  body_ref_.assign(bodies(), 0.0);
+  body_acceleration_.assign(bodies(), 0.0);
+  for (int i = 0; i < n_ && !scene.attached.empty(); ++i)
+    if (scene.attached[i] != Scene::free_particle) attached_list_.push_back(i);
+  has_attached_ = !attached_list_.empty();
+  works_ = bodies() || has_attached_ ? 3 : 2;
+  // Entries no stage writes (the dashpots' torques, the bodies' coordinates) stay 0.
+  work_force_.assign(works_ * layout_.nq, 0.0);
+  x_ref_.resize(n_);
+  y_ref_.resize(n_);
+  wall_loads_.resize(scene.walls.size());
+  update_walls(0, nullptr);
+}
+
+std::vector<double> DemSystem::initial_state() const {
+  std::vector<double> y(layout_.size(), 0.0);
+  for (int i = 0; i < n_; ++i) {
+    y[x_at() + i] = scene_.position[i].x;
+    y[y_at() + i] = scene_.position[i].y;
+    y[vx_at() + i] = scene_.velocity[i].x;
+    y[vy_at() + i] = scene_.velocity[i].y;
+    if (rotates_) y[omega_at() + i] = scene_.angular_velocity[i];
+    if (thermal_) y[temperature_at() + i] = scene_.temperature[i];
+  }
+  // Attached particles start with their wall's motion.
+  for (int i : attached_list_) {
+    const int w = scene_.attached[i];
+    const WallMotion m = w >= 0 ? scene_.walls[w].motion : WallMotion{};
+    const Vec2 u = wall_velocity_at(m, scene_.position[i], 0);
+    y[vx_at() + i] = u.x;
+    y[vy_at() + i] = u.y;
+    if (rotates_) y[omega_at() + i] = m.kind == WallMotion::Kind::rotate ? m.omega : 0.0;
+  }
+  return y;
+}
+
+Vec2 DemSystem::body_offset(int w, const double* y) const {
+  const int k = body_of_wall_[w];
+  if (k < 0 || !y) return {};
+  const Vec2 load = scene_.walls[w].motion.load;
+  return (y[body_at() + k] / norm(load)) * load;
+}
+
+Vec2 DemSystem::body_velocity(int w, const double* y) const {
+  const int k = body_of_wall_[w];
+  if (k < 0 || !y) return {};
+  const Vec2 load = scene_.walls[w].motion.load;
+  return (y[body_speed_at() + k] / norm(load)) * load;
+}
+
+void DemSystem::wall_geometry(double t, const double* y, std::vector<Vec2>& a, std::vector<Vec2>& b) const {
+  a.resize(scene_.segments.size());
+  b.resize(scene_.segments.size());
+  for (size_t s = 0; s < scene_.segments.size(); ++s) {
+    const Segment& seg = scene_.segments[s];
+    const WallMotion& m = scene_.walls[seg.wall].motion;
+    const Vec2 shift = body_offset(seg.wall, y);
+    a[s] = wall_point_at(m, seg.a, t) + shift;
+    b[s] = wall_point_at(m, seg.b, t) + shift;
+  }
+}
+
+// Walls where they are at (t, y). Without wall bodies the geometry is a function of t alone and
+// is kept while t does not change.
+void DemSystem::update_walls(double t, const double* y) {
+  if (t == seg_time_ && bodies() == 0) return;
+  wall_geometry(t, y, seg_a_, seg_b_);
+  wall_centre_.resize(scene_.walls.size());
+  for (size_t w = 0; w < scene_.walls.size(); ++w)
+    wall_centre_[w] = wall_point_at(scene_.walls[w].motion, wall_reference_[w], t) + body_offset(static_cast<int>(w), y);
+  seg_time_ = t;
+}
+
+void DemSystem::save(Snapshot& s) const {
+  pp_.save(s, "system.pairs.");
+  pw_.save(s, "system.walls.");
+  s.put("system.reference_x", x_ref_);
+  s.put("system.reference_y", y_ref_);
+  s.put("system.times", {t_ref_, committed_time_, trial_time_, broadphase_.skin(), max_overlap_fraction_});
+  s.put_integers("system.counts", std::vector<long>{built_ ? 1 : 0, rebuilds_});
+  s.put("system.committed_angle", committed_angle_);
+  s.put("system.trial_angle", trial_angle_);
+  s.put("system.work_force", work_force_);
+  s.put("system.body_reference", body_ref_);
+}
+
+// The Box2D tree is not restored: the candidate pairs are kept as saved, and the next rebuild's
+// pairs are those of an exact test in double precision on whatever the tree reports (a superset).
+void DemSystem::restore(const Snapshot& s) {
+  pp_.restore(s, "system.pairs.");
+  pw_.restore(s, "system.walls.");
+  x_ref_ = s.reals("system.reference_x");
+  y_ref_ = s.reals("system.reference_y");
+  const std::vector<double>& times = s.reals("system.times");
+  t_ref_ = times.at(0);
+  committed_time_ = times.at(1);
+  trial_time_ = times.at(2);
+  broadphase_.set_skin(times.at(3));
+  max_overlap_fraction_ = times.at(4);
+  const std::vector<long long>& counts = s.integers("system.counts");
+  built_ = counts.at(0) != 0;
+  rebuilds_ = counts.at(1);
+  committed_angle_ = s.reals("system.committed_angle");
+  trial_angle_ = s.reals("system.trial_angle");
+  work_force_ = s.reals("system.work_force");
+  body_ref_ = s.reals("system.body_reference");
+  if (static_cast<int>(x_ref_.size()) != n_ || pp_.k.size() != pp_.i.size() || pw_.k.size() != pw_.i.size())
+    throw InputError("the checkpoint's contact lists do not fit this scene's " + std::to_string(n_) + " particles");
+  auto within = [](const std::vector<int>& v, int n) { return std::all_of(v.begin(), v.end(), [n](int k) { return k >= 0 && k < n; }); };
+  if (!within(pp_.i, n_) || !within(pp_.j, n_) || !within(pw_.i, n_) ||
+      !within(pw_.j, static_cast<int>(scene_.segments.size())))
+    throw InputError("the checkpoint's contacts name particles or wall segments this scene does not have");
+  pp_.index(n_, true);
+  pw_.index(n_, false);
+}
+
+void DemSystem::accept(double) {
+  pp_.commit();
+  pw_.commit();
+  committed_angle_.swap(trial_angle_);
+  committed_time_ = trial_time_;
+}
+
+
+// One force evaluation, stage by stage. Under IMEX, conduction alone is the implicit part
+// (linear in the temperatures); everything else is explicit.
+void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, const double* temps) {
+  if (part == Part::implicit_only || part == Part::jacobian) {
+    implicit_conduction(t, y, ydot, temps, part == Part::implicit_only);
+    latest_conducted_ = false;  // the heat rows are still the full evaluation's, but not its state's
+    return;
+  }
+  Evaluation e = begin_evaluation(t, y, ydot);
+  e.conduct = thermal_ && part == Part::all;
+  particle_contact_forces(e);
+  wall_contact_forces(e);
+  rows_to_particles(e);
+  if (e.conduct) e.heat_walls = conduct_walls(t, y, y + temperature_at(), e.heat, true, pw_.heat_rows.data());
+  latest_conducted_ = e.conduct;
+  if (has_attached_ || bodies()) {
+    const StageTimer timer(profile_, Stage::wall_contacts);  // what the walls' particles and bodies do
+    if (has_attached_) attached_particles(e);
+    if (bodies()) wall_bodies(e, ydot);
+  }
+  accelerations(e);
+  close_ledger(e, ydot);
+}
+
+// dq/dt = v; the work forces of the walls' ledger zeroed (the contact stages and
+// rows_to_particles() write every force, torque, heat and other work force).
+DemSystem::Evaluation DemSystem::begin_evaluation(double t, const double* y, double* ydot) {
+  const int nq = layout_.nq;
+  std::copy_n(y + nq, nq, ydot);
+  Evaluation e;
+  e.t = t;
+  e.state = y;
+  e.x = y + x_at();
+  e.y = y + y_at();
+  e.angle = rotates_ ? y + angle_at() : nullptr;
+  e.vx = y + vx_at();
+  e.vy = y + vy_at();
+  e.w = rotates_ ? y + omega_at() : nullptr;
+  e.fx = ydot + vx_at();
+  e.fy = ydot + vy_at();
+  e.torque = rotates_ ? ydot + omega_at() : nullptr;
+  // Heat (thermal scenes only): dissipation turned to heat by the contact stages; conduction
+  // (the implicit part under IMEX) by its own.
+  if (thermal_) e.heat = ydot + temperature_at();
+  e.gd = work_force_.data();
+  e.g = e.gd + nq;
+  if (works_ == 3) {
+    e.gw = e.gd + 2 * nq;
+    std::fill_n(e.gw, nq, 0.0);
+  }
+  if (pp_.history) {
+    std::copy_n(e.angle, n_, trial_angle_.data());
+    trial_time_ = t;
+  }
+  return e;
+}
+
+void DemSystem::accelerations(Evaluation& e) {
+  const double gx = scene_.gravity.x, gy = scene_.gravity.y;
+#pragma omp parallel for schedule(static) if (parallel_worthwhile(n_))
+  for (int i = 0; i < n_; ++i) {
+    e.fx[i] = e.fx[i] * inv_mass_[i] + gx;
+    e.fy[i] = e.fy[i] * inv_mass_[i] + gy;
+    if (e.torque) e.torque[i] *= inv_inertia_[i];
+    if (e.heat) e.heat[i] *= inv_capacity_[i];
+  }
+  // An attached particle follows its wall: no spin change, the wall's acceleration at its place
+  // (a turning wall's centripetal one, a wall body's own).
+  for (int i : attached_list_) {
+    const int w = scene_.attached[i];
+    Vec2 a;
+    if (w >= 0) {
+      const WallMotion& m = scene_.walls[w].motion;
+      if (m.kind == WallMotion::Kind::rotate) a = (-m.omega * m.omega) * (Vec2{e.x[i], e.y[i]} - m.centre);
+      if (body_of_wall_[w] >= 0) {
+        a = (body_acceleration_[body_of_wall_[w]] / norm(m.load)) * m.load;
+      }
+    }
+    e.fx[i] = a.x;
+    e.fy[i] = a.y;
+    if (e.torque) e.torque[i] = 0;
+  }
+}
+
+// Forces on attached particles are forces on their walls: summed into the walls' loads, and the
+// power they take from the particles pushing them is the walls' work.
+void DemSystem::attached_particles(Evaluation& e) {
+  for (int i : attached_list_) {
+    const Vec2 f{e.fx[i], e.fy[i]};
+    const double torque = e.torque ? e.torque[i] : 0.0;
+    e.walls_work -= f.x * e.vx[i] + f.y * e.vy[i] + (e.torque ? torque * e.w[i] : 0.0);
+    e.gw[i] -= f.x;
+    e.gw[n_ + i] -= f.y;
+    if (e.torque) e.gw[2 * n_ + i] -= torque;
+    const int w = scene_.attached[i];
+    if (w < 0) continue;
+    WallLoad& load = wall_loads_[w];
+    load.force = load.force + f;
+    load.torque += cross(cell_.image_near({e.x[i], e.y[i]}, wall_centre_[w]) - wall_centre_[w], f) + torque;
+    load.power -= f.x * e.vx[i] + f.y * e.vy[i] + (e.torque ? torque * e.w[i] : 0.0);
+  }
+}
+
+// A load-controlled wall: m s'' = (F_particles + F_load) . e - c s', e the load's direction.
+void DemSystem::wall_bodies(Evaluation& e, double* ydot) {
+  for (int k = 0; k < bodies(); ++k) {
+    const WallMotion& m = scene_.walls[body_wall_[k]].motion;
+    const double load = norm(m.load);
+    const double along = dot(wall_loads_[body_wall_[k]].force, (1 / load) * m.load) + load;
+    body_acceleration_[k] = (along - m.damping * e.state[body_speed_at() + k]) / m.mass;
+    ydot[body_speed_at() + k] = body_acceleration_[k];
+  }
+}
+
+void DemSystem::close_ledger(const Evaluation& e, double* ydot) {
+  double* ledger = ydot + ledger_at();
+  ledger[ledger_damping] = e.damping;
+  ledger[ledger_friction] = e.friction_work;
+  ledger[ledger_walls] = e.walls_work;
+  if (e.heat) {
+    ledger[ledger_heat_walls] = e.heat_walls;
+    ledger[ledger_heat_generated] = e.heat_generated;
+  }
+  max_overlap_fraction_ = e.worst;
+}
+
+// IMEX's implicit part: conduction alone (linear in the temperatures `temps`); the walls' heat
+// sources enter the implicit part, not its Jacobian. The heat the walls deliver is linear in the
+// temperatures too: its ledger rate has a Jacobian row, -sum H_w v_i, which a scheme that
+// corrects its slopes with the Jacobian needs to keep the ledger closed.
+void DemSystem::implicit_conduction(double t, const double* y, double* ydot, const double* temps, bool wall_sources) {
+  std::fill_n(ydot, layout_.size(), 0.0);
+  if (moving_walls_) update_walls(t, y);
+  double* heat = ydot + temperature_at();
+  const double heat_walls = conduct(t, y, temps ? temps : y + temperature_at(), heat, wall_sources);
+  for (int i = 0; i < n_; ++i) heat[i] *= inv_capacity_[i];
+  ydot[ledger_at() + ledger_heat_walls] = heat_walls;
+}
+
+std::vector<double> DemSystem::absolute_tolerances(const StepControl& c) const {
+  std::vector<double> atol(layout_.size(), c.atol);
+  auto fill = [&](int from, int count, double value) {
+    if (from >= 0 && std::isfinite(value)) std::fill_n(atol.begin() + from, count, value);
+  };
+  fill(x_at(), 2 * n_, c.atol_position);
+  fill(angle_at(), n_, c.atol_angle);
+  fill(vx_at(), 2 * n_, c.atol_velocity);
+  fill(omega_at(), n_, c.atol_velocity);
+  fill(temperature_at(), n_, c.atol_temperature);
+  fill(body_at(), bodies(), c.atol_position);
+  fill(body_speed_at(), bodies(), c.atol_velocity);
+  return atol;
+}
+
+
+}  // namespace kiln

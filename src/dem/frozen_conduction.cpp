@@ -1,0 +1,62 @@
+#include "src/dem/frozen_conduction.h"
+
+#include <algorithm>
+
+namespace kiln::thermal {
+
+FrozenConduction::FrozenConduction(std::vector<ConductanceLink> links, std::vector<double> capacity,
+                                   std::vector<WallTemperature> walls, int ledger_entries)
+    : links_(std::move(links)), walls_(std::move(walls)), ledger_(ledger_entries) {
+  for (double c : capacity) inv_capacity_.push_back(1 / c);
+  capacity_ = std::move(capacity);
+}
+
+void FrozenConduction::conduct(double t, const double* temp, double* zdot, bool walls) const {
+  const int n = static_cast<int>(inv_capacity_.size());
+  std::fill_n(zdot, ledger_ + n, 0.0);
+  double* heat = zdot + ledger_;
+  double from_walls = 0;
+  for (const ConductanceLink& link : links_) {
+    if (link.j >= 0) {
+      const double q = link.h * (temp[link.j] - temp[link.i]);
+      heat[link.i] += q;
+      heat[link.j] -= q;
+    } else {
+      const double q = link.h * ((walls ? walls_[-1 - link.j].at(t) : 0.0) - temp[link.i]);
+      heat[link.i] += q;
+      from_walls += q;
+    }
+  }
+  for (int i = 0; i < n; ++i) heat[i] *= inv_capacity_[i];
+  // Without the walls' temperatures this is the Jacobian's row of the heat from walls: -sum h T_i.
+  zdot[ledger_heat_walls] = from_walls;
+}
+
+bool FrozenConduction::diffusion_jacobian(double, const double*, DiffusionJacobian& out) const {
+  out.reset(ledger_, capacity_, ledger_heat_walls);
+  for (const ConductanceLink& link : links_) out.add_link(link.i, link.j, link.h);  // wall links have j < 0
+  return true;
+}
+
+FrozenConduction freeze_network(const DemSystem& system, double t, const double* y) {
+  std::vector<WallTemperature> walls;
+  for (const Wall& w : system.scene().walls) walls.push_back(w.temperature);
+  std::vector<double> capacity;
+  for (int i = 0; i < system.particles(); ++i) capacity.push_back(system.heat_capacity(i));
+  return FrozenConduction(system.conduction_links(t, y), capacity, walls, system.ledger_count());
+}
+
+double FrozenConduction::stiffest_rate() const {
+  std::vector<double> row(inv_capacity_.size(), 0.0);
+  // Gershgorin: row i holds its diagonal sum_j H_ij + H_iw and as much again off the diagonal
+  // (walls have no column).
+  for (const ConductanceLink& link : links_) {
+    row[link.i] += link.j >= 0 ? 2 * link.h : link.h;
+    if (link.j >= 0) row[link.j] += 2 * link.h;
+  }
+  double worst = 0;
+  for (size_t i = 0; i < row.size(); ++i) worst = std::max(worst, row[i] * inv_capacity_[i]);
+  return worst;
+}
+
+}  // namespace kiln::thermal

@@ -1,0 +1,367 @@
+#include "src/output/output_h5.h"
+
+#include <algorithm>
+
+#include "src/base/error.h"
+#include "src/base/h5_errors.h"
+
+namespace kiln {
+
+H5Frames::H5Frames(const std::string& path, const ResultLayout& layout) : path_(path), layout_(layout) {
+  h5_setup();
+  file_ = h5_id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), "create", path_);
+  try {
+    for (int f = 0; f < f_count; ++f)
+      if (present(Field(f))) ds_[f] = create(shape(Field(f)));
+  } catch (...) {
+    abandon();  // no destructor runs for an object whose constructor throws
+    throw;
+  }
+  triple_buffer_.resize(3 * std::max(layout_.particles, layout_.walls));
+  zeros_.assign(layout_.particles, 0.0);
+}
+
+H5Frames::H5Frames(const std::string& path, const ResultLayout& layout, int keep) : path_(path), layout_(layout) {
+  h5_setup();
+  file_ = h5_id(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), "open (to resume)", path_);
+  try {
+    for (int f = 0; f < f_count; ++f)
+      if (present(Field(f))) ds_[f] = open(shape(Field(f)), keep);
+    h5_check(H5Fflush(file_, H5F_SCOPE_GLOBAL), "write", path_);
+  } catch (...) {
+    abandon();
+    throw;
+  }
+  frames_ = keep;
+  triple_buffer_.resize(3 * std::max(layout_.particles, layout_.walls));
+  zeros_.assign(layout_.particles, 0.0);
+}
+
+H5Frames::~H5Frames() { abandon(); }
+
+bool H5Frames::present(Field f) const {
+  switch (f) {
+    case f_temperature:
+      return layout_.thermal;
+    case f_segments:
+      return layout_.walls > 0 && layout_.walls_move;
+    case f_force:
+    case f_torque:
+    case f_power:
+      return layout_.walls > 0;
+    default:
+      return true;
+  }
+}
+
+H5Frames::Shape H5Frames::shape(Field f) const {
+  const hsize_t n = static_cast<hsize_t>(layout_.particles), w = static_cast<hsize_t>(layout_.walls);
+  switch (f) {
+    case f_time:
+      return {"time", "s", 0, {0, 0}};
+    case f_position:
+      return {"position", "m", 2, {n, 3}};
+    case f_velocity:
+      return {"velocity", "m/s", 2, {n, 3}};
+    case f_angle:
+      return {"angle", "rad", 1, {n, 0}};
+    case f_omega:
+      return {"angular_velocity", "rad/s", 1, {n, 0}};
+    case f_temperature:
+      return {"temperature", "degC", 1, {n, 0}};
+    case f_segments:
+      return {"wall_segments", "m", 2, {static_cast<hsize_t>(layout_.segments), 4}};
+    case f_force:
+      return {"wall_force", "N", 2, {w, 3}};
+    case f_torque:
+      return {"wall_torque", "N m", 1, {w, 0}};
+    case f_power:
+      return {"wall_power", "W", 1, {w, 0}};
+    default:
+      return {};
+  }
+}
+
+// The text attribute `units` of a dataset.
+void H5Frames::units(hid_t object, const char* value, const std::string& dataset) {
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  herr_t status = type < 0 ? -1 : H5Tset_size(type, std::char_traits<char>::length(value) + 1);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t attr = status < 0 || space < 0 ? -1 : H5Acreate2(object, "units", type, space, H5P_DEFAULT, H5P_DEFAULT);
+  status = attr < 0 ? -1 : H5Awrite(attr, type, value);
+  if (attr >= 0) H5Aclose(attr);
+  if (space >= 0) H5Sclose(space);
+  if (type >= 0) H5Tclose(type);
+  h5_check(status, ("write the units of dataset '" + dataset + "' to").c_str(), path_);
+}
+
+// A dataset of frames: rank+1 dimensions, the first unlimited, one frame per chunk.
+hid_t H5Frames::create(const Shape& s) {
+  hsize_t dims[3] = {0, 0, 0}, maxdims[3] = {H5S_UNLIMITED, 0, 0}, chunk[3] = {1, 1, 1};
+  for (int k = 0; k < s.rank; ++k) {
+    dims[k + 1] = maxdims[k + 1] = s.dims[k];
+    chunk[k + 1] = std::max<hsize_t>(s.dims[k], 1);
+  }
+  const hid_t space = h5_id(H5Screate_simple(s.rank + 1, dims, maxdims), "describe a dataset of", path_);
+  const hid_t props = H5Pcreate(H5P_DATASET_CREATE);
+  const herr_t chunked = props < 0 ? -1 : H5Pset_chunk(props, s.rank + 1, chunk);
+  const hid_t ds = chunked < 0 ? -1 : H5Dcreate2(file_, s.name, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, props, H5P_DEFAULT);
+  if (props >= 0) H5Pclose(props);
+  H5Sclose(space);
+  h5_id(ds, (std::string("create dataset '") + s.name + "' in").c_str(), path_);
+  try {
+    units(ds, s.units, s.name);
+  } catch (...) {
+    H5Dclose(ds);
+    throw;
+  }
+  return ds;
+}
+
+// An existing dataset of frames, checked against this run's sizes, cut to `keep` frames.
+hid_t H5Frames::open(const Shape& s, int keep) {
+  const std::string name = s.name;
+  const std::string what = "open dataset '" + name + "' in";
+  if (H5Lexists(file_, s.name, H5P_DEFAULT) <= 0) {
+    H5Eclear2(H5E_DEFAULT);
+    throw InputError(path_ + " has no dataset '" + name +
+                     "' of this run's frames (written by an older kiln, or a result of another run?)");
+  }
+  const hid_t ds = h5_id(H5Dopen2(file_, s.name, H5P_DEFAULT), what.c_str(), path_);
+  const hid_t space = H5Dget_space(ds);
+  hsize_t dims[3] = {0, 0, 0};
+  const int found = space < 0 ? -1 : H5Sget_simple_extent_ndims(space);
+  bool same = found == s.rank + 1 && H5Sget_simple_extent_dims(space, dims, nullptr) == found &&
+              dims[0] >= static_cast<hsize_t>(keep);
+  if (space >= 0) H5Sclose(space);
+  for (int k = 0; same && k < s.rank; ++k) same = dims[k + 1] == s.dims[k];
+  if (!same) {
+    H5Dclose(ds);
+    H5Eclear2(H5E_DEFAULT);
+    throw InputError(path_ + ": dataset '" + name + "' does not hold the " + std::to_string(keep) +
+                     " frames of this run that its checkpoint records (a result of another run, or of an "
+                     "older kiln?)");
+  }
+  dims[0] = static_cast<hsize_t>(keep);
+  try {
+    h5_check(H5Dset_extent(ds, dims), "cut the frames after the checkpoint in", path_);
+  } catch (...) {
+    H5Dclose(ds);
+    throw;
+  }
+  return ds;
+}
+
+void H5Frames::extend_and_write(Field f, const double* data) {
+  const Shape s = shape(f);
+  const hid_t ds = ds_[f];
+  hsize_t size[3] = {static_cast<hsize_t>(frames_ + 1), 0, 0}, start[3] = {static_cast<hsize_t>(frames_), 0, 0},
+          count[3] = {1, 0, 0};
+  for (int k = 0; k < s.rank; ++k) size[k + 1] = count[k + 1] = s.dims[k];
+  const std::string what = "write frame " + std::to_string(frames_) + " of '" + s.name + "' to";
+  h5_check(H5Dset_extent(ds, size), what.c_str(), path_);
+  const hid_t file_space = h5_id(H5Dget_space(ds), what.c_str(), path_);
+  const hid_t mem_space = H5Screate_simple(s.rank + 1, count, nullptr);
+  herr_t status = mem_space < 0 ? -1 : H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr);
+  if (status >= 0) status = H5Dwrite(ds, H5T_NATIVE_DOUBLE, mem_space, file_space, H5P_DEFAULT, data);
+  if (mem_space >= 0) H5Sclose(mem_space);
+  H5Sclose(file_space);
+  h5_check(status, what.c_str(), path_);
+}
+
+const double* H5Frames::triples(const double* x, const double* y, int n) {
+  for (int i = 0; i < n; ++i) {
+    triple_buffer_[3 * i] = x[i];
+    triple_buffer_[3 * i + 1] = y[i];
+    triple_buffer_[3 * i + 2] = 0;
+  }
+  return triple_buffer_.data();
+}
+
+const double* H5Frames::triples(const double* xy, int n) {
+  for (int i = 0; i < n; ++i) {
+    triple_buffer_[3 * i] = xy[2 * i];
+    triple_buffer_[3 * i + 1] = xy[2 * i + 1];
+    triple_buffer_[3 * i + 2] = 0;
+  }
+  return triple_buffer_.data();
+}
+
+void H5Frames::append(const H5Frame& f) {
+  const int n = layout_.particles;
+  extend_and_write(f_time, &f.t);
+  extend_and_write(f_position, triples(f.x, f.y, n));
+  extend_and_write(f_velocity, triples(f.vx, f.vy, n));
+  extend_and_write(f_angle, f.angle ? f.angle : zeros_.data());
+  extend_and_write(f_omega, f.omega ? f.omega : zeros_.data());
+  if (ds_[f_temperature] >= 0) extend_and_write(f_temperature, f.temperature);
+  if (ds_[f_segments] >= 0) extend_and_write(f_segments, f.segments);
+  if (ds_[f_force] >= 0) {
+    extend_and_write(f_force, triples(f.wall_force, layout_.walls));
+    extend_and_write(f_torque, f.wall_torque);
+    extend_and_write(f_power, f.wall_power);
+  }
+  // Written through to the file now: HDF5 would otherwise hold the frame (and report a failed
+  // write) until close, and a run killed before then would leave metadata that no reader opens.
+  h5_check(H5Fflush(file_, H5F_SCOPE_GLOBAL), ("write frame " + std::to_string(frames_) + " to").c_str(), path_);
+  ++frames_;
+}
+
+int H5Frames::frames_of_run(const std::string& path, const std::string& run_id) {
+  h5_setup();
+  const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  int frames = -1;
+  if (file >= 0 && H5Aexists(file, "run_id") > 0) {
+    const hid_t attr = H5Aopen(file, "run_id", H5P_DEFAULT);
+    const hid_t type = H5Aget_type(attr);
+    std::string id(H5Tget_size(type), '\0');
+    const bool read = H5Aread(attr, type, id.data()) >= 0;
+    H5Tclose(type);
+    H5Aclose(attr);
+    const hid_t ds = H5Dopen2(file, "time", H5P_DEFAULT);
+    if (read && id.substr(0, id.find('\0')) == run_id && ds >= 0) {
+      const hid_t space = H5Dget_space(ds);
+      frames = static_cast<int>(H5Sget_simple_extent_npoints(space));
+      H5Sclose(space);
+    }
+    if (ds >= 0) H5Dclose(ds);
+  }
+  if (file >= 0) H5Fclose(file);
+  H5Eclear2(H5E_DEFAULT);
+  return frames;
+}
+
+std::vector<double> H5Frames::times() const {
+  std::vector<double> t(frames_);
+  if (frames_ == 0) return t;
+  const hsize_t start[] = {0}, count[] = {static_cast<hsize_t>(frames_)};
+  const hid_t file_space = h5_id(H5Dget_space(ds_[f_time]), "read the frame times of", path_);
+  const hid_t mem_space = H5Screate_simple(1, count, nullptr);
+  herr_t status = mem_space < 0 ? -1 : H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr);
+  if (status >= 0) status = H5Dread(ds_[f_time], H5T_NATIVE_DOUBLE, mem_space, file_space, H5P_DEFAULT, t.data());
+  if (mem_space >= 0) H5Sclose(mem_space);
+  H5Sclose(file_space);
+  h5_check(status, "read the frame times of", path_);
+  return t;
+}
+
+// A whole constant dataset with its units.
+void H5Frames::write_array(const char* name, hid_t type, int rank, const hsize_t* dims, const void* data,
+                           const char* unit) {
+  const std::string what = std::string("write dataset '") + name + "' to";
+  const hid_t space = h5_id(H5Screate_simple(rank, dims, nullptr), what.c_str(), path_);
+  const hid_t ds = H5Dcreate2(file_, name, type, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  const herr_t status = ds < 0 ? -1 : H5Dwrite(ds, type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
+  H5Sclose(space);
+  try {
+    h5_check(status, what.c_str(), path_);
+    units(ds, unit, name);
+  } catch (...) {
+    if (ds >= 0) H5Dclose(ds);
+    throw;
+  }
+  h5_check(H5Dclose(ds), what.c_str(), path_);
+}
+
+void H5Frames::write_table(const ResultTable& table) {
+  if (H5Lexists(file_, table.name.c_str(), H5P_DEFAULT) > 0)
+    h5_check(H5Ldelete(file_, table.name.c_str(), H5P_DEFAULT), ("replace dataset '" + table.name + "' in").c_str(), path_);
+  write_array(table.name.c_str(), H5T_NATIVE_DOUBLE, static_cast<int>(table.shape.size()), table.shape.data(),
+              table.values.data(), table.units.c_str());
+}
+
+void H5Frames::write_constant(const std::vector<double>& radius) {
+  const hsize_t dims[] = {static_cast<hsize_t>(layout_.particles)};
+  write_array("radius", H5T_NATIVE_DOUBLE, 1, dims, radius.data(), "m");
+  std::vector<long long> ids(layout_.particles);
+  for (int i = 0; i < layout_.particles; ++i) ids[i] = i;
+  write_array("id", H5T_NATIVE_LLONG, 1, dims, ids.data(), "1");
+}
+
+void H5Frames::write_walls(const std::vector<int>& wall_of_segment, const std::vector<std::string>& names,
+                           const double* fixed_segments) {
+  const int s = layout_.segments;
+  const hsize_t per_segment[] = {static_cast<hsize_t>(s)};
+  write_array("wall_of_segment", H5T_NATIVE_INT, 1, per_segment, wall_of_segment.data(), "1");
+  std::vector<int> ends(2 * s);
+  for (int k = 0; k < 2 * s; ++k) ends[k] = k;
+  const hsize_t pairs[] = {static_cast<hsize_t>(s), 2};
+  write_array("wall_connectivity", H5T_NATIVE_INT, 2, pairs, ends.data(), "1");
+  if (fixed_segments) {
+    const hsize_t rows[] = {static_cast<hsize_t>(s), 4};
+    write_array("wall_segments", H5T_NATIVE_DOUBLE, 2, rows, fixed_segments, "m");
+  }
+  // The names as an array of variable-length UTF-8 strings: any text a scene gives stays whole.
+  std::vector<const char*> text;
+  for (const std::string& name : names) text.push_back(name.c_str());
+  const hsize_t count[] = {text.size()};
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  herr_t status = type < 0 ? -1 : H5Tset_size(type, H5T_VARIABLE);
+  if (status >= 0) status = H5Tset_cset(type, H5T_CSET_UTF8);
+  const hid_t space = H5Screate_simple(1, count, nullptr);
+  const hid_t attr =
+      status < 0 || space < 0 ? -1 : H5Acreate2(file_, "wall_names", type, space, H5P_DEFAULT, H5P_DEFAULT);
+  status = attr < 0 ? -1 : H5Awrite(attr, type, text.data());
+  if (attr >= 0) H5Aclose(attr);
+  if (space >= 0) H5Sclose(space);
+  if (type >= 0) H5Tclose(type);
+  h5_check(status, "write attribute 'wall_names' to", path_);
+}
+
+void H5Frames::attribute(const std::string& name, const std::string& value) {
+  const hid_t type = H5Tcopy(H5T_C_S1);
+  H5Tset_size(type, value.size() + 1);
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t attr = H5Acreate2(file_, name.c_str(), type, space, H5P_DEFAULT, H5P_DEFAULT);
+  const herr_t status = attr < 0 ? -1 : H5Awrite(attr, type, value.c_str());
+  if (attr >= 0) H5Aclose(attr);
+  H5Sclose(space);
+  H5Tclose(type);
+  h5_check(status, ("write attribute '" + name + "' to").c_str(), path_);
+}
+
+void H5Frames::attribute(const std::string& name, double value) {
+  const hid_t space = H5Screate(H5S_SCALAR);
+  const hid_t attr = H5Acreate2(file_, name.c_str(), H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT);
+  const herr_t status = attr < 0 ? -1 : H5Awrite(attr, H5T_NATIVE_DOUBLE, &value);
+  if (attr >= 0) H5Aclose(attr);
+  H5Sclose(space);
+  h5_check(status, ("write attribute '" + name + "' to").c_str(), path_);
+}
+
+std::string H5Frames::text_attribute(const std::string& name) const {
+  if (H5Aexists(file_, name.c_str()) <= 0) return "";
+  const hid_t attr = h5_id(H5Aopen(file_, name.c_str(), H5P_DEFAULT), "read an attribute of", path_);
+  const hid_t type = H5Aget_type(attr);
+  std::string value(H5Tget_size(type), '\0');
+  const herr_t status = H5Aread(attr, type, value.data());
+  H5Tclose(type);
+  H5Aclose(attr);
+  h5_check(status, "read an attribute of", path_);
+  return value.substr(0, value.find('\0'));
+}
+
+void H5Frames::close() {
+  if (file_ < 0) return;
+  herr_t status = 0;
+  for (hid_t& ds : ds_) {
+    if (ds >= 0 && H5Dclose(ds) < 0) status = -1;
+    ds = -1;
+  }
+  if (H5Fclose(file_) < 0) status = -1;
+  file_ = -1;
+  h5_check(status, "finish writing", path_);
+}
+
+void H5Frames::abandon() {
+  if (file_ < 0) return;
+  for (hid_t& ds : ds_) {
+    if (ds >= 0) H5Dclose(ds);
+    ds = -1;
+  }
+  H5Fclose(file_);
+  file_ = -1;
+  H5Eclear2(H5E_DEFAULT);
+}
+
+}  // namespace kiln

@@ -1,0 +1,118 @@
+// result.h5: one frame per output time, written as the run goes (chunked, extendible datasets).
+// F frames, N particles, W walls, S wall segments; every dataset has a text attribute `units`.
+//   time              (F)          s
+//   position          (F x N x 3)  m      x, y, z = 0 (three components: ParaView's vectors)
+//   velocity          (F x N x 3)  m/s    the same
+//   angle             (F x N)      rad    zeros in scenes without rotation
+//   angular_velocity  (F x N)      rad/s  the same
+//   temperature       (F x N)      degC   thermal scenes only
+//   radius            (N)          m
+//   id                (N)          1      64-bit integers 0 .. N-1
+// and in scenes with walls:
+//   wall_segments     (S x 4) m, or (F x S x 4) when a wall moves: x_a, y_a, x_b, y_b of each
+//                     segment, i.e. the 2 S points (x, y) of the segments' ends, a then b (in a
+//                     periodic cell each segment shifted by whole periods to have its middle in it)
+//   wall_of_segment   (S)          1      32-bit integers: the wall (index into wall_names)
+//   wall_connectivity (S x 2)      1      32-bit integers 2s, 2s + 1: segment s joins those of the
+//                                         2 S points (result.xdmf's polyline topology)
+//   wall_force        (F x W x 3)  N      what the particles exert on each wall (z = 0)
+//   wall_torque       (F x W)      N m    its torque about the wall's centre, counter-clockwise
+//   wall_power        (F x W)      W      the power the wall delivers to the particles
+// and the tables case observers add at the end of a run (observers.h), e.g.
+//   impact_energy_histogram (W x B) 1, impact_energy_bin_edges (B + 1) J   (wall_impacts)
+// Attributes of the file: scene, integrator, dt, kiln_version, run_id, and with walls
+// wall_names (W variable-length UTF-8 strings, in the order of the walls).
+// Every HDF5 call is checked where it is made, and the file is flushed after each frame: a write
+// that fails (a full disk) is an OutputError naming the file at that frame, and a run killed
+// between frames leaves a file whose finished frames HDF5 reads.
+#pragma once
+#include <hdf5.h>
+
+#include <string>
+#include <vector>
+
+#include "src/output/outputs.h"
+
+namespace kiln {
+
+// A table a case adds to result.h5 at the end of a run: row-major values of the given shape.
+struct ResultTable {
+  std::string name, units;
+  std::vector<hsize_t> shape;
+  std::vector<double> values;
+};
+
+// One frame's fields, each an array of the layout's size (null where noted).
+struct H5Frame {
+  double t = 0;
+  const double *x = nullptr, *y = nullptr, *vx = nullptr, *vy = nullptr;
+  const double* angle = nullptr;        // null: zeros
+  const double* omega = nullptr;        // null: zeros
+  const double* temperature = nullptr;  // thermal scenes
+  const double* segments = nullptr;     // 4 S (x_a, y_a, x_b, y_b): when walls move
+  const double* wall_force = nullptr;   // 2 W (x, y): in scenes with walls
+  const double* wall_torque = nullptr;  // W
+  const double* wall_power = nullptr;   // W
+};
+
+class H5Frames {
+ public:
+  // A new file (replacing any of that name).
+  H5Frames(const std::string& path, const ResultLayout& layout);
+  // An existing file of a run being resumed: frames after the first `keep` are dropped from every
+  // dataset of frames (those a killed run wrote after its checkpoint), and new frames follow them.
+  H5Frames(const std::string& path, const ResultLayout& layout, int keep);
+  ~H5Frames();
+  H5Frames(const H5Frames&) = delete;
+  H5Frames& operator=(const H5Frames&) = delete;
+
+  void attribute(const std::string& name, const std::string& value);
+  void attribute(const std::string& name, double value);
+  std::string text_attribute(const std::string& name) const;  // "" when absent
+  void write_constant(const std::vector<double>& radius);     // radius and id
+  // The walls' constant part (scenes with walls): the wall of each segment, the connectivity, the
+  // names, and the segments themselves (4 S values) when no wall moves (null otherwise).
+  void write_walls(const std::vector<int>& wall_of_segment, const std::vector<std::string>& names,
+                   const double* fixed_segments);
+  void append(const H5Frame& f);  // then a flush
+  void write_table(const ResultTable& table);  // replaces a table of that name (a resumed run's)
+  int frames() const { return frames_; }
+  // The frames of run `run_id` that the file at `path` holds, read only; -1 when it cannot be read
+  // or is another run's.
+  static int frames_of_run(const std::string& path, const std::string& run_id);
+  std::vector<double> times() const;  // the time of every frame
+  void close();    // checked: the last writes may fail here
+  void abandon();  // closes without checking (a run that failed: the file is removed)
+
+ private:
+  // The datasets of frames, in the order they are written.
+  enum Field {
+    f_time, f_position, f_velocity, f_angle, f_omega, f_temperature,  // particles
+    f_segments,                                                        // when walls move
+    f_force, f_torque, f_power,                                        // when there are walls
+    f_count
+  };
+  struct Shape {
+    const char* name = nullptr;
+    const char* units = nullptr;
+    int rank = 0;  // of one frame
+    hsize_t dims[2] = {0, 0};
+  };
+  bool present(Field f) const;
+  Shape shape(Field f) const;
+  hid_t create(const Shape& s);
+  hid_t open(const Shape& s, int keep);
+  void extend_and_write(Field f, const double* data);
+  void units(hid_t object, const char* units, const std::string& dataset);
+  void write_array(const char* name, hid_t type, int rank, const hsize_t* dims, const void* data, const char* units);
+  const double* triples(const double* x, const double* y, int n);  // (x, y, 0) interleaved
+  const double* triples(const double* xy, int n);                   // (x, y) pairs to (x, y, 0)
+  std::string path_;
+  ResultLayout layout_;
+  hid_t file_ = -1;
+  hid_t ds_[f_count] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
+  int frames_ = 0;
+  std::vector<double> triple_buffer_, zeros_;
+};
+
+}  // namespace kiln

@@ -1,0 +1,322 @@
+#include "src/output/run_outputs.h"
+
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+#include "src/base/error.h"
+#include "src/output/outputs.h"
+
+namespace kiln {
+
+namespace fs = std::filesystem;
+
+const std::vector<std::string>& RunOutputs::names() {
+  static const std::vector<std::string> n = {"result.h5",    "result.h5.tmp",   "result.xdmf",    "result.xdmf.tmp",
+                                             "summary.json", "summary.json.tmp", "picture.png",    "picture.png.tmp",
+                                             "checkpoint.h5", "checkpoint.h5.tmp", "result.h5.killed",
+                                             // drawn from a run's results (movie.h, scripts/plot_case.py)
+                                             "movie",         "movie.tmp",         "movie.mp4",        "movie.mp4.tmp",
+                                             "plots.png",     "plots.png.tmp"};
+  return n;
+}
+
+std::string RunOutputs::path(const std::string& name) const { return (fs::path(dir_) / name).string(); }
+
+namespace {
+
+void make_directory(const std::string& dir) {
+  std::error_code error;
+  fs::create_directories(dir, error);
+  if (error) throw OutputError("cannot create the output directory " + dir + ": " + error.message());
+}
+
+// Moves what an earlier run wrote in `dir` into dir/previous/.
+void move_aside(const std::string& dir) {
+  const fs::path previous = fs::path(dir) / "previous";
+  bool any = false;
+  for (const std::string& name : RunOutputs::names()) any = any || fs::exists(fs::path(dir) / name);
+  if (!any) return;
+  std::error_code error;
+  fs::create_directories(previous, error);
+  for (const std::string& name : RunOutputs::names()) {
+    fs::remove_all(previous / name, error);
+    if (fs::exists(fs::path(dir) / name)) fs::rename(fs::path(dir) / name, previous / name, error);
+    if (error) throw OutputError("cannot move " + (fs::path(dir) / name).string() + " into " + previous.string() + ": " +
+                                 error.message());
+  }
+}
+
+}  // namespace
+
+bool walls_move(const DemSystem& sys) {
+  for (const Wall& w : sys.scene().walls)
+    if (w.motion.kind != WallMotion::Kind::fixed) return true;
+  return false;
+}
+
+ResultLayout result_layout(const DemSystem& sys) {
+  ResultLayout l;
+  l.particles = sys.particles();
+  l.thermal = sys.thermal();
+  l.walls = static_cast<int>(sys.scene().walls.size());
+  l.segments = static_cast<int>(sys.scene().segments.size());
+  l.walls_move = walls_move(sys);
+  return l;
+}
+
+// One run at a time per directory: two runs writing into one would publish a mix of both. The
+// lock is the kernel's (flock), so it goes with the process however that ends.
+void RunOutputs::lock_directory() {
+  make_directory(dir_);
+  lock_ = ::open(path(".kiln.lock").c_str(), O_CREAT | O_RDWR | O_CLOEXEC, 0644);
+  if (lock_ < 0) throw OutputError("cannot create " + path(".kiln.lock") + ": " + std::strerror(errno));
+  if (::flock(lock_, LOCK_EX | LOCK_NB) != 0)
+    throw InputError(dir_ + " is in use by another kiln run (it holds " + path(".kiln.lock") +
+                     "): wait for it to end, or give another --out");
+}
+
+RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id)
+    : dir_(dir), sys_(sys), layout_(result_layout(sys)) {
+  lock_directory();
+  move_aside(dir_);
+  try {
+    h5_ = std::make_unique<H5Frames>(path("result.h5.tmp"), layout_);
+    const Scene& scene = sys.scene();
+    h5_->attribute("scene", scene.name);
+    h5_->attribute("integrator", scene.integrator);
+    h5_->attribute("dt", scene.dt);
+    h5_->attribute("kiln_version", KILN_VERSION);
+    h5_->attribute("run_id", run_id);
+    std::vector<double> r(sys.particles());
+    for (int i = 0; i < sys.particles(); ++i) r[i] = sys.radius(i);
+    h5_->write_constant(r);
+    if (layout_.walls > 0) {
+      std::vector<int> wall_of_segment;
+      for (const Segment& seg : scene.segments) wall_of_segment.push_back(seg.wall);
+      std::vector<std::string> names;
+      for (const Wall& w : scene.walls) names.push_back(w.name);
+      if (!layout_.walls_move) {
+        const std::vector<double> y0 = sys.initial_state();
+        sys.wall_geometry(0, y0.data(), wall_a_, wall_b_);
+        segments_rows();
+      }
+      h5_->write_walls(wall_of_segment, names, layout_.walls_move ? nullptr : segments_.data());
+    }
+  } catch (...) {
+    if (h5_) h5_->abandon();
+    h5_.reset();
+    std::remove(path("result.h5.tmp").c_str());
+    throw;
+  }
+}
+
+RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id, int frames,
+                       const Snapshot& checkpoint)
+    : dir_(dir), sys_(sys), layout_(result_layout(sys)), resumed_from_(&checkpoint) {
+  lock_directory();
+  // The result holding this run's frames up to the checkpoint: the result.h5.tmp of a killed run
+  // (a killed resumed run's holds more than result.h5), the frames of a killed run kept by an
+  // earlier restart (result.h5.killed), or the published result.h5.
+  std::string original;
+  for (const char* name : {"result.h5.tmp", "result.h5.killed", "result.h5"})
+    if (fs::exists(path(name)) && H5Frames::frames_of_run(path(name), run_id) >= frames) {
+      original = name;
+      break;
+    }
+  if (original.empty())
+    throw InputError(dir_ + ": none of result.h5, result.h5.tmp (a killed run's) and result.h5.killed holds the " +
+                     std::to_string(frames) + " frames of run '" + run_id +
+                     "' that the checkpoint continues: a result of another run, or frames lost");
+  std::error_code error;
+  if (original == "result.h5.tmp") {  // kept under a name of its own while a copy is extended
+    fs::rename(path("result.h5.tmp"), path("result.h5.killed"), error);
+    if (error) throw OutputError("cannot rename " + path("result.h5.tmp") + ": " + error.message());
+    original = "result.h5.killed";
+  }
+  fs::copy_file(path(original), path("result.h5.tmp"), fs::copy_options::overwrite_existing, error);
+  try {
+    if (error)
+      throw OutputError("cannot copy " + path(original) + " to " + path("result.h5.tmp") + ": " + error.message());
+    h5_ = std::make_unique<H5Frames>(path("result.h5.tmp"), layout_, frames);
+    times_ = h5_->times();
+  } catch (...) {
+    if (h5_) h5_->abandon();
+    h5_.reset();
+    std::remove(path("result.h5.tmp").c_str());
+    throw;
+  }
+}
+
+RunOutputs::~RunOutputs() {
+  if (!done_ && h5_) clean_up();
+  if (lock_ >= 0) ::close(lock_);  // the lock goes last, after every file is in place
+}
+
+void RunOutputs::clean_up() {
+  h5_->abandon();
+  for (const char* name : {"result.h5.tmp", "result.xdmf.tmp", "summary.json.tmp", "picture.png.tmp",
+                           "checkpoint.h5.tmp"})
+    std::remove(path(name).c_str());
+  if (!checkpointed_) return;
+  if (!resumed_from_) {
+    std::remove(path("checkpoint.h5").c_str());  // only of use beside the frames it continues
+    return;
+  }
+  try {
+    resumed_from_->write(path("checkpoint.h5"));  // the one that matches the original's frames
+  } catch (const std::exception&) {
+    // A later checkpoint is left: a restart from it reports the frames it misses.
+  }
+}
+
+namespace {
+
+// Walls as they are seen in a periodic cell: each segment shifted by whole periods so that its
+// middle lies in the cell (a wall driven along a periodic axis has travelled many periods).
+void place_in_cell(const PeriodicCell& cell, std::vector<Vec2>& a, std::vector<Vec2>& b) {
+  if (!cell.any()) return;
+  for (size_t s = 0; s < a.size(); ++s) {
+    const Vec2 middle = 0.5 * (a[s] + b[s]);
+    const Vec2 shift = cell.wrap(middle) - middle;
+    a[s] = a[s] + shift;
+    b[s] = b[s] + shift;
+  }
+}
+
+}  // namespace
+
+void RunOutputs::segments_rows() {
+  place_in_cell(sys_.cell(), wall_a_, wall_b_);
+  segments_.resize(4 * wall_a_.size());
+  for (size_t s = 0; s < wall_a_.size(); ++s) {
+    segments_[4 * s] = wall_a_[s].x;
+    segments_[4 * s + 1] = wall_a_[s].y;
+    segments_[4 * s + 2] = wall_b_[s].x;
+    segments_[4 * s + 3] = wall_b_[s].y;
+  }
+}
+
+void RunOutputs::frame(double t, const double* y) {
+  H5Frame f;
+  f.t = t;
+  f.x = y + sys_.x_at();
+  f.y = y + sys_.y_at();
+  if (sys_.cell().any()) {  // the places in the periodic cell, not the continuous positions
+    const int n = sys_.particles();
+    wrapped_.resize(2 * n);
+    for (int i = 0; i < n; ++i) {
+      const Vec2 p = sys_.cell().wrap({f.x[i], f.y[i]});
+      wrapped_[i] = p.x;
+      wrapped_[n + i] = p.y;
+    }
+    f.x = wrapped_.data();
+    f.y = wrapped_.data() + n;
+  }
+  f.vx = y + sys_.vx_at();
+  f.vy = y + sys_.vy_at();
+  f.angle = sys_.rotates() ? y + sys_.angle_at() : nullptr;
+  f.omega = sys_.rotates() ? y + sys_.omega_at() : nullptr;
+  f.temperature = sys_.thermal() ? y + sys_.temperature_at() : nullptr;
+  if (layout_.walls > 0) {
+    if (layout_.walls_move) {
+      sys_.wall_geometry(t, y, wall_a_, wall_b_);
+      segments_rows();
+      f.segments = segments_.data();
+    }
+    // The loads of the system's latest force evaluation (DemSystem::wall_loads).
+    const std::vector<DemSystem::WallLoad>& loads = sys_.wall_loads();
+    if (loads.size() != static_cast<size_t>(layout_.walls))
+      throw std::logic_error("the system gives the loads of " + std::to_string(loads.size()) + " walls, the scene has " +
+                             std::to_string(layout_.walls));
+    wall_force_.resize(2 * loads.size());
+    wall_torque_.resize(loads.size());
+    wall_power_.resize(loads.size());
+    for (size_t w = 0; w < loads.size(); ++w) {
+      wall_force_[2 * w] = loads[w].force.x;
+      wall_force_[2 * w + 1] = loads[w].force.y;
+      wall_torque_[w] = loads[w].torque;
+      wall_power_[w] = loads[w].power;
+    }
+    f.wall_force = wall_force_.data();
+    f.wall_torque = wall_torque_.data();
+    f.wall_power = wall_power_.data();
+  }
+  h5_->append(f);
+  times_.push_back(t);
+}
+
+std::string how_it_ended(const nlohmann::json& summary) {
+  std::ostringstream s;
+  const nlohmann::json& stopped = summary.value("stopped_early", nlohmann::json(false));
+  if (stopped == "at_rest") {
+    s << "stopped at rest (kinetic energy below the scene's stop)";
+  } else if (stopped == "signal") {
+    s << "stopped by a signal (resume from checkpoint.h5)";
+  } else if (summary.contains("frozen_at") && summary["frozen_at"].is_number()) {
+    s << "mechanics frozen at " << summary["frozen_at"].get<double>() << " s, heat to t_end";
+  } else {
+    s << "reached t_end";
+  }
+  const long steps = summary.value("steps", 0L);
+  const nlohmann::json heat = summary.contains("integrator_stats")
+                                  ? summary["integrator_stats"].value("heat_stage", nlohmann::json())
+                                  : nlohmann::json();
+  if (heat.is_object() && heat.contains("steps")) {  // settled, then heat alone with its own integrator
+    const long heat_steps = heat["steps"].get<long>();
+    s << "; " << steps - heat_steps << " steps of " << summary.value("integrator", std::string("?")) << ", then "
+      << heat_steps << " of " << heat.value("integrator", std::string("?")) << " (heat alone)";
+  } else {
+    s << "; " << steps << " steps of " << summary.value("integrator", std::string("?"));
+  }
+  return s.str();
+}
+
+
+PictureInput RunOutputs::picture(double t, const double* y, const std::string& title) const {
+  PictureInput pic;
+  for (int i = 0; i < sys_.particles(); ++i) {
+    pic.centre.push_back(sys_.cell().wrap({y[sys_.x_at() + i], y[sys_.y_at() + i]}));
+    pic.radius.push_back(sys_.radius(i));
+    pic.value.push_back(sys_.thermal() ? y[sys_.temperature_at() + i]
+                                       : std::hypot(y[sys_.vx_at() + i], y[sys_.vy_at() + i]));
+    pic.of_wall.push_back(sys_.attached(i));
+  }
+  pic.value_label = sys_.thermal() ? "temperature (C)" : "speed (m/s)";
+  sys_.wall_geometry(t, y, pic.wall_a, pic.wall_b);  // where the walls are at t, moving ones too
+  place_in_cell(sys_.cell(), pic.wall_a, pic.wall_b);
+  pic.title = title;
+  return pic;
+}
+
+void RunOutputs::checkpoint(const Snapshot& s) {
+  s.write(path("checkpoint.h5"));
+  checkpointed_ = true;
+}
+
+void RunOutputs::finish(double t, const double* y, const nlohmann::json& summary, const std::string& title,
+                        const std::vector<ResultTable>& tables) {
+  for (const ResultTable& table : tables) h5_->write_table(table);
+  h5_->close();
+  PictureInput pic = picture(t, y, title);
+  pic.subtitle = how_it_ended(summary);
+  // Everything is written before anything is published: a failure leaves no final name behind.
+  write_picture(path("picture.png.tmp"), pic);
+  write_file(path("result.xdmf.tmp"), xdmf_document("result.h5", layout_, times_));
+  // A byte that is not UTF-8 (which the scene reader refuses) must not lose the run here.
+  write_file(path("summary.json.tmp"), summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
+  for (const char* name : {"result.h5", "result.xdmf", "picture.png", "summary.json"})
+    publish(path(std::string(name) + ".tmp"), path(name));
+  std::remove(path("result.h5.killed").c_str());  // a resumed killed run's frames, now in result.h5
+  done_ = true;
+}
+
+}  // namespace kiln

@@ -1,0 +1,89 @@
+// The files of one run in its output directory: result.h5 (frames), result.xdmf, summary.json,
+// picture.png and checkpoint.h5.
+//
+// While the run goes, frames go to result.h5.tmp, flushed at every frame; checkpoints are written
+// whole and renamed. When the run ends (at t_end, at rest, or stopped by a signal) everything is
+// published under its final name. A run that fails removes what it wrote and publishes nothing;
+// a run killed outright (SIGKILL, power) leaves result.h5.tmp with its finished frames readable
+// and its last checkpoint, from which `kiln run --restart` goes on.
+//
+// A resumed run appends to a copy (result.h5.tmp) of its result: result.h5, or result.h5.killed,
+// the frames a killed run left (its result.h5.tmp, renamed). The original is replaced only when
+// the resumed run ends; one that fails leaves it, and the checkpoint it resumed from, as they were
+// (a write that fails on a full disk can leave an HDF5 file unreadable, so the file holding finished
+// frames is never written in place).
+//
+// One run writes into a directory at a time: each holds an exclusive lock on DIR/.kiln.lock; a
+// second is refused.
+//
+// A new run first moves the results of an earlier run in the same directory into previous/
+// (replacing what an even earlier run left there), so that nothing of two runs lies side by side.
+#pragma once
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "src/dem/dem_system.h"
+#include "src/output/output_h5.h"
+#include "src/output/outputs.h"
+#include "src/base/snapshot.h"
+
+namespace kiln {
+
+// What result.h5 holds for this system's scene (output_h5.h).
+ResultLayout result_layout(const DemSystem& sys);
+// Whether result.h5 records the wall segments of every frame: some wall can move. (A wall whose
+// position a later kind of motion takes from the state moves too: only this predicate changes.)
+bool walls_move(const DemSystem& sys);
+// The picture's second line from a run's summary: how the run ended (t_end, at rest, frozen, a
+// signal), and its steps with the integrator of each stage.
+std::string how_it_ended(const nlohmann::json& summary);
+
+class RunOutputs {
+ public:
+  // A new run with id `run_id` (recorded in result.h5 and summary.json).
+  RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id);
+  // A resumed run from `checkpoint`: a copy of its result, cut to the checkpoint's frames. Throws
+  // InputError when the result is missing or belongs to another run.
+  RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id, int frames,
+             const Snapshot& checkpoint);
+  // Unless finish() ran, the temporary files are removed; a new run also removes its checkpoint,
+  // a resumed run puts back the checkpoint it resumed from.
+  ~RunOutputs();
+  RunOutputs(const RunOutputs&) = delete;
+  RunOutputs& operator=(const RunOutputs&) = delete;
+
+  void frame(double t, const double* y);
+  int frames() const { return h5_->frames(); }
+  void checkpoint(const Snapshot& s);
+  std::string checkpoint_path() const { return path("checkpoint.h5"); }
+  void finish(double t, const double* y, const nlohmann::json& summary, const std::string& title,
+              const std::vector<ResultTable>& tables = {});
+
+  // The names a run writes, final and temporary (a new run moves these aside).
+  static const std::vector<std::string>& names();
+
+ private:
+  std::string path(const std::string& name) const;
+  // The final state's picture: particles and walls where they are at t.
+  PictureInput picture(double t, const double* y, const std::string& title) const;
+  void segments_rows();  // wall_a_, wall_b_ into segments_ (x_a, y_a, x_b, y_b per segment)
+  void lock_directory();
+  void clean_up();  // a run that did not finish
+  std::string dir_;
+  const DemSystem& sys_;
+  const ResultLayout layout_;
+  std::unique_ptr<H5Frames> h5_;
+  std::vector<double> times_;
+  // Scratch of frame(): the wall segments and loads of one frame.
+  std::vector<Vec2> wall_a_, wall_b_;
+  std::vector<double> segments_, wall_force_, wall_torque_, wall_power_;
+  std::vector<double> wrapped_;  // periodic cells: positions wrapped into the cell
+  bool checkpointed_ = false;  // this run wrote checkpoint.h5
+  bool done_ = false;
+  const Snapshot* resumed_from_ = nullptr;  // a resumed run's checkpoint
+  int lock_ = -1;                            // the directory's .kiln.lock, held while the run writes
+};
+
+}  // namespace kiln

@@ -1,0 +1,277 @@
+#include "src/run/stability.h"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+#include <sstream>
+
+#include "contact/normal_force.h"
+#include "src/dem/contact_coefficients.h"
+#include "src/dem/dem_system.h"
+#include "src/dem/frozen_conduction.h"
+
+namespace kiln {
+
+namespace {
+
+// The highest speeds at which a disc can meet a wall and another disc: a disc moves at most at its
+// largest initial speed (random_velocity included) plus a free fall over the scene's height along
+// g plus a moving wall's speed (a wall pushes it), and two discs can approach each other at twice
+// that. Speeds are taken with hypot, which does not overflow below 1.8e308; a bound that is still
+// not finite (speeds or g near the largest double) is refused by judge_dt.
+struct ImpactSpeeds {
+  double wall = 0, pair = 0;
+};
+
+double speed(Vec2 v) { return std::hypot(v.x, v.y); }
+
+ImpactSpeeds impact_speeds(const Scene& scene) {
+  const double g = speed(scene.gravity);
+  const Vec2 down = g > 0 ? Vec2{scene.gravity.x / g, scene.gravity.y / g} : Vec2{0, -1};
+  double lo = INFINITY, hi = -INFINITY, v0 = 0;
+  for (int i = 0; i < scene.n_particles(); ++i) {
+    lo = std::min(lo, dot(scene.position[i], down));
+    hi = std::max(hi, dot(scene.position[i], down));
+    v0 = std::max(v0, speed(scene.velocity[i]));
+  }
+  double wall_speed = 0;
+  for (const Segment& s : scene.segments) {
+    lo = std::min({lo, dot(s.a, down), dot(s.b, down)});
+    hi = std::max({hi, dot(s.a, down), dot(s.b, down)});
+    const WallMotion& m = scene.walls[s.wall].motion;
+    if (m.kind == WallMotion::Kind::translate) wall_speed = std::max(wall_speed, speed(m.velocity));
+    if (m.kind == WallMotion::Kind::rotate)
+      wall_speed = std::max(
+          {wall_speed, std::abs(m.omega) * speed(s.a - m.centre), std::abs(m.omega) * speed(s.b - m.centre)});
+  }
+  const double fall = std::sqrt(2 * g) * std::sqrt(std::max(0.0, hi - lo));
+  const double disc = v0 + fall + wall_speed;
+  return {std::max(disc, 1e-3), std::max(2 * disc, 1e-3)};
+}
+
+}  // namespace
+
+std::optional<std::string> too_many_steps(const char* step_name, double step, double duration) {
+  const double steps = std::ceil(duration / step);
+  if (steps <= max_steps) return std::nullopt;
+  std::ostringstream s;
+  s << "t_end / " << step_name << " = " << duration << " s / " << step << " s = " << steps
+    << " steps, more than the limit of " << max_steps << " steps: the run would not end in any useful time; raise "
+    << step_name << " or shorten t_end, or run it anyway with --force";
+  return s.str();
+}
+
+namespace {
+
+// Estimates that are not numbers (NaN) come from masses, stiffnesses or speeds that overflow
+// double precision; every comparison with them would pass.
+bool not_a_number(const StabilityEstimate& e) {
+  return std::isnan(e.contact_duration) || std::isnan(e.dt_limit) || std::isnan(e.rayleigh) ||
+         std::isnan(e.thermal_dt_limit) || std::isnan(e.thermal_dt_limit_network);
+}
+
+void thermal_estimate(const Scene& scene, const std::vector<double>& rmin, const std::vector<int>& count,
+                      StabilityEstimate& est) {
+  DemSystem system(scene);
+  const std::vector<double> y = system.initial_state();
+  system.prepare(0, y.data(), 0);
+  std::vector<double> capacity;
+  for (int i = 0; i < system.particles(); ++i) capacity.push_back(system.heat_capacity(i));
+  const thermal::FrozenConduction network(system.conduction_links(0, y.data()), capacity, {}, system.ledger_count());
+  double lambda = network.stiffest_rate();
+  est.thermal_dt_limit_network = lambda > 0 ? 2 / lambda : INFINITY;
+  if (!scene.frozen) {
+    // Dense packing of the smallest particles of each material pair at 1 % overlap.
+    const int nm = scene.n_materials();
+    for (int a = 0; a < nm; ++a)
+      for (int b = 0; b < nm; ++b) {
+        if (!count[a] || !count[b]) continue;
+        const ContactCoefficients law = contact_coefficients(scene, a, b);
+        const double ra = rmin[a], rb = rmin[b], overlap = 0.01 * std::min(ra, rb);
+        const double k = law.normal_stiffness(ra * rb / (ra + rb));
+        const double fn = contact::normal_force({k, 0, law.hertz, true}, overlap, 0);
+        const double h = thermal::conductance(law.conduction, ra, rb, ra + rb - overlap, fn);
+        const Material& ma = scene.materials[a];
+        const double c = disc_mass(scene, ra, ma.density) * ma.specific_heat;
+        lambda = std::max(lambda, 2 * 6 * h / c);
+      }
+  }
+  if (lambda > 0) {
+    est.thermal_dt_limit = 2 / lambda;
+    est.thermal_relaxation_time = 1 / lambda;
+  }
+}
+
+}  // namespace
+
+StabilityEstimate estimate_stability(const Scene& scene) {
+  StabilityEstimate est;
+  const ImpactSpeeds speeds = impact_speeds(scene);
+  est.impact_speed = std::max(speeds.wall, speeds.pair);
+  const int nm = scene.n_materials();
+  // The smallest particle of each material gives the lightest pair.
+  std::vector<double> rmin(nm, INFINITY);
+  std::vector<int> count(nm, 0);
+  for (int i = 0; i < scene.n_particles(); ++i) {
+    rmin[scene.material[i]] = std::min(rmin[scene.material[i]], scene.radius[i]);
+    ++count[scene.material[i]];
+  }
+  // A disc pressed between two contacts (a chain, a pile) has a faster mode than a lone pair: the
+  // zone-boundary mode of a chain of equal masses, omega = 2 sqrt(k/m) = sqrt(2) sqrt(k/m_eff) with
+  // m_eff = m/2 (a disc between a wall and another disc alike): the safe bound. (The damped,
+  // frictional T3 pile and T6 drum hold to 1.6 times it, docs/studies.md.)
+  const bool packed = scene.n_particles() >= 2;
+  auto consider = [&](int a, int b, double m_eff, double r_eff, double speed, const std::string& label) {
+    const ContactCoefficients law = contact_coefficients(scene, a, b);
+    const contact::NormalLaw nl = law.normal_law(m_eff, r_eff);
+    double duration, omega;
+    if (nl.hertz) {
+      duration = contact::hertz_contact_duration(nl.k, m_eff, speed);
+      const double max_overlap = std::pow(1.25 * m_eff * speed * speed / nl.k, 0.4);
+      omega = std::sqrt(1.5 * nl.k * std::sqrt(max_overlap) / m_eff);
+    } else {
+      duration = contact::linear_contact_duration(nl.k, nl.c, m_eff);
+      omega = std::sqrt(nl.k / m_eff);
+      // Central-difference limit of a damped oscillator: 2 (sqrt(1 + zeta^2) - zeta) / omega.
+      const double zeta = nl.c / (2 * std::sqrt(m_eff * nl.k));
+      omega /= std::sqrt(1 + zeta * zeta) - zeta;
+    }
+    if (duration < est.contact_duration) {
+      est.contact_duration = duration;
+      est.shortest_pair = label;
+    }
+    est.dt_limit = std::min(est.dt_limit, 2 / (packed ? std::sqrt(2.0) * omega : omega));
+  };
+  for (int a = 0; a < nm; ++a) {
+    if (!count[a]) continue;
+    const Material& ma = scene.materials[a];
+    const double mass_a = disc_mass(scene, rmin[a], ma.density);
+    for (int b = a; b < nm; ++b) {
+      if (!count[b] || (a == b && count[a] < 2)) continue;
+      const double mass_b = disc_mass(scene, rmin[b], scene.materials[b].density);
+      consider(a, b, mass_a * mass_b / (mass_a + mass_b), rmin[a] * rmin[b] / (rmin[a] + rmin[b]), speeds.pair,
+               ma.name + "-" + scene.materials[b].name);
+    }
+    // A wall is of infinite mass, except a load-controlled wall body. It bears on as many contacts
+    // as discs fit along it (and two for each disc attached to it), springs in parallel: its
+    // fastest mode is that of its mass shared among them.
+    for (size_t wi = 0; wi < scene.walls.size(); ++wi) {
+      const Wall& w = scene.walls[wi];
+      double m_wall = INFINITY;
+      if (w.motion.kind == WallMotion::Kind::load_controlled) {
+        double length = 0;
+        for (const Segment& seg : scene.segments)
+          if (seg.wall == static_cast<int>(wi)) length += norm(seg.b - seg.a);
+        double contacts = std::max(1.0, std::floor(length / (2 * rmin[a])));
+        for (int at : scene.attached) contacts += at == static_cast<int>(wi) ? 2 : 0;
+        m_wall = w.motion.mass / contacts;
+      }
+      const double m_eff = std::isfinite(m_wall) ? mass_a * m_wall / (mass_a + m_wall) : mass_a;
+      consider(a, w.material, m_eff, rmin[a], speeds.wall, ma.name + "-wall(" + w.name + ")");
+    }
+    if (ma.youngs_modulus > 0) {
+      const double shear = ma.youngs_modulus / (2 * (1 + ma.poisson_ratio));
+      est.rayleigh = std::min(est.rayleigh, M_PI * rmin[a] * std::sqrt(ma.density / shear) /
+                                                (0.1631 * ma.poisson_ratio + 0.8766));
+    }
+  }
+  est.recommended_dt = est.contact_duration / 50;
+  if (scene.thermal) thermal_estimate(scene, rmin, count, est);
+  return est;
+}
+
+namespace {
+
+// Explicit conduction: certain for the network that exists at t = 0, an estimate otherwise.
+// IMEX integrators take conduction implicitly and have no such limit.
+// The limits are 2 / lambda_max (Euler, Heun, the Verlet schemes' temperatures), scaled by the
+// integrator's reach along the negative real axis (RK4 2.79 / lambda_max; IMEX: none).
+void judge_conduction(const StabilityEstimate& est, double dt, const Scene& scene, DtVerdict& v) {
+  const double reach = real_stability_of(scene.integrator) / 2;
+  const std::string& heating = scene.freeze.integrator.empty() ? scene.integrator : scene.freeze.integrator;
+  const double heating_reach = real_stability_of(heating) / 2;
+  std::ostringstream s;
+  if (dt >= reach * est.thermal_dt_limit_network) {
+    s << "dt = " << dt << " s is beyond " << scene.integrator << "'s explicit conduction limit "
+      << reach * est.thermal_dt_limit_network << " s on the contact network (" << 2 * reach
+      << " / lambda_max): the temperatures will blow up";
+    v.unstable = true;
+    v.warnings.push_back(s.str());
+    return;
+  }
+  if (dt >= reach * est.thermal_dt_limit) {
+    s << "dt = " << dt << " s is beyond " << scene.integrator << "'s explicit conduction limit "
+      << reach * est.thermal_dt_limit << " s on a dense packing at 1 % overlap: the temperatures may blow up once "
+      << "contacts form";
+    v.warnings.push_back(s.str());
+  }
+  if (scene.freeze.enabled && scene.freeze.dt >= heating_reach * est.thermal_dt_limit) {
+    std::ostringstream w;
+    w << "freeze.dt = " << scene.freeze.dt << " s is beyond " << heating << "'s explicit conduction limit "
+      << heating_reach * est.thermal_dt_limit << " s on a dense packing at 1 % overlap (the settled network's "
+      << "own limit is reported by the run as frozen_network.explicit_dt_limit)";
+    v.warnings.push_back(w.str());
+  }
+}
+
+void judge_mechanics(const StabilityEstimate& est, double dt, const Scene& scene, DtVerdict& v) {
+  std::ostringstream s;
+  // A step that carries a disc past another body by more than the smallest radius can jump over the
+  // whole overlap band (2 r wide) without one evaluation inside it: the contact is never seen.
+  const double r_min = *std::min_element(scene.radius.begin(), scene.radius.end());
+  const ImpactSpeeds speeds = impact_speeds(scene);
+  const double approach = scene.n_particles() > 1 ? speeds.pair : speeds.wall;
+  if (!std::isfinite(approach)) {
+    s << "the highest impact speed is not a finite number: initial speeds, gravity or wall speeds are too large "
+      << "for double precision (about 1.8e308), so no dt carries a disc safely";
+  } else if (dt * approach > r_min) {
+    s << "dt x impact speed = " << dt << " s x " << approach << " m/s = " << dt * approach
+      << " m is more than the smallest radius (" << r_min << " m): a disc can pass through a wall or another disc "
+      << "between two steps; lower dt below " << r_min / approach << " s";
+  } else if (dt >= est.dt_limit) {
+    s << "dt = " << dt << " s is beyond the stability limit " << est.dt_limit
+      << " s of the stiffest contact: the run will blow up";
+  }
+  if (!s.str().empty()) {
+    v.unstable = true;
+    v.warnings.push_back(s.str());
+    return;
+  }
+  const double per_contact = est.contact_duration / dt;
+  if (per_contact < 20) {
+    s << "only " << per_contact << " steps per contact (" << est.shortest_pair
+      << "): expect large errors; 50 or more is usual (dt <= " << est.recommended_dt << " s)";
+    v.warnings.push_back(s.str());
+  } else if (per_contact > 20000) {
+    s << per_contact << " steps per contact: dt could be much larger (" << est.recommended_dt << " s)";
+    v.warnings.push_back(s.str());
+  }
+  if (std::isfinite(est.rayleigh) && dt > 0.3 * est.rayleigh) {
+    std::ostringstream r;
+    r << "dt is " << 100 * dt / est.rayleigh << " % of the Rayleigh time step; 10-30 % is usual";
+    v.warnings.push_back(r.str());
+  }
+}
+
+}  // namespace
+
+DtVerdict judge_dt(const StabilityEstimate& est, double dt, const Scene& scene) {
+  DtVerdict v;
+  auto refused = [&v](const std::string& why) {
+    v.unstable = true;
+    v.warnings.push_back(why);
+    return v;
+  };
+  if (scene.control.rtol == 0)
+    if (auto why = too_many_steps("dt", dt, scene.t_end)) return refused(*why);
+  if (scene.freeze.enabled && scene.control.rtol == 0)
+    if (auto why = too_many_steps("freeze.dt", scene.freeze.dt, scene.t_end)) return refused(*why);
+  if (not_a_number(est))
+    return refused("the time-step estimates are not numbers: the scene's masses, stiffnesses, conductivities or "
+                   "speeds overflow double precision (about 1.8e308)");
+  if (scene.thermal) judge_conduction(est, dt, scene, v);
+  if (!v.unstable && !scene.frozen) judge_mechanics(est, dt, scene, v);
+  return v;
+}
+
+}  // namespace kiln

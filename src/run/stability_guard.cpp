@@ -1,0 +1,227 @@
+#include "src/run/stability_guard.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "src/base/error.h"
+
+namespace kiln {
+
+namespace {
+
+// A healthy run's ledger error is its integrator's truncation error on the energy that moved, a
+// small fraction of it: at most 5.5 % over the test suite (velocity Verlet at the edge of its
+// stability on a permanent contact; third-order tables on T1 at 4.4 steps per contact); 4e-6 to
+// 2e-4 in T1, T3 and P1 at their own steps. A blow-up makes energy from nothing: the gain grows
+// with the kinetic energy, which comes to dominate what is exchanged, so the ratio tends to 1. A
+// quarter lies far from both.
+constexpr double blow_up_fraction = 0.25;
+
+}  // namespace
+
+StabilityGuard::StabilityGuard(const Scene& scene, const DemSystem& sys, const EnergyLedger& initial)
+    : scene_(scene), sys_(sys), initial_(initial), estimate_(estimate_stability(scene)),
+      largest_exchange_(exchanged(initial, initial)) {
+  // Far from the origin a step's displacement is rounded to the positions' ulp: a disc 1e5 m up
+  // does not move in its first 1 us step (g dt^2 / 2 = 4.9e-12 m is below half an ulp, 7.3e-12 m)
+  // while it gains g dt of speed. The potential energy of half an ulp per position per step is
+  // what the ledger cannot resolve; the steps taken accumulate it.
+  auto half_ulp = [](double x) { return 0.5 * (std::nextafter(std::abs(x), INFINITY) - std::abs(x)); };
+  for (int i = 0; i < sys.particles(); ++i)
+    rounding_per_step_ += sys.mass(i) * (std::abs(scene.gravity.x) * half_ulp(scene.position[i].x) +
+                                         std::abs(scene.gravity.y) * half_ulp(scene.position[i].y));
+  // Conduction obeys a maximum principle: no temperature leaves the range of the initial and
+  // wall temperatures. Heat sources (dissipation turned to heat) only add heat, so with them the
+  // lower bound still holds: an unstable conduction mode, which alternates in sign, crosses it.
+  if (scene.thermal) {
+    low_ = *std::min_element(scene.temperature.begin(), scene.temperature.end());
+    high_ = *std::max_element(scene.temperature.begin(), scene.temperature.end());
+    for (const Wall& w : scene.walls)
+      for (double v : w.temperature.values) {
+        low_ = std::min(low_, v);
+        high_ = std::max(high_, v);
+      }
+    width_ = high_ > low_ ? high_ - low_ : 1.0;  // kelvin, when every temperature starts equal
+    if (scene.heat_from_dissipation != HeatFromDissipation::none) high_ = INFINITY;
+  }
+}
+
+void StabilityGuard::every_step(double t, const double* y, double h) {
+  ++steps_;
+  if (sys_.max_overlap_fraction() > scene_.max_overlap_fraction) {
+    std::ostringstream s;
+    s << "overlap reached " << sys_.max_overlap_fraction() << " of a radius (limit " << scene_.max_overlap_fraction
+      << ", checks.max_overlap_fraction)";
+    fail(t, s.str());
+  }
+  // (v h)^2 against r^2 per particle: no division or root in the loop, and no overflow of v^2. The
+  // speed after the step stands for the step's: a particle accelerated past its radius in one
+  // step is caught at the step that follows.
+  const double *vx = y + sys_.vx_at(), *vy = y + sys_.vy_at();
+  int fastest = -1;
+  double worst = 1;
+  for (int i = 0; i < sys_.particles(); ++i) {
+    const double dx = vx[i] * h, dy = vy[i] * h;
+    const double travel2 = dx * dx + dy * dy, r2 = sys_.radius(i) * sys_.radius(i);
+    if (travel2 > worst * r2) {
+      worst = travel2 / r2;
+      fastest = i;
+    }
+  }
+  if (fastest >= 0) {
+    const double speed = std::hypot(vx[fastest], vy[fastest]);  // hypot: no overflow
+    std::ostringstream s;
+    s << "particle " << fastest << " moves " << speed * h << " m in one step (speed " << speed << " m/s x step " << h
+      << " s), more than its radius " << sys_.radius(fastest)
+      << " m: it can pass through a wall or another particle between two evaluations; at this speed the step must "
+         "stay below radius / speed = "
+      << sys_.radius(fastest) / speed << " s";
+    fail(t, s.str());
+  }
+}
+
+void StabilityGuard::finite(double t, const double* y, int size) {
+  for (int k = 0; k < size; ++k)
+    if (!std::isfinite(y[k])) fail(t, "the state holds NaN or infinity (component " + std::to_string(k) + ")");
+  // The ledger too, between frames: a study writes one frame, at its end, which may fall at the
+  // apex of a bounce; the largest exchange must have seen the bounce itself.
+  energy(t, sys_.energy(t, y));
+}
+
+void StabilityGuard::temperatures(double t, const double* y) {
+  if (!sys_.thermal()) return;
+  // Without heat sources no temperature leaves [low, high]. A step that is stable for conduction
+  // multiplies each mode of the deviation from the walls' steady state (itself in the range) by
+  // |R(z)| <= 1: what a stable run shows beyond the range is modes of either sign adding up,
+  // measured at most 2.7 % of the range (P1 under imex4 at 6 times the explicit limit; erk3 and
+  // erk4 just below their own limits on F1, 0.6 % and 0.3 %). An inexact implicit solve can throw
+  // a step or two beyond the whole range, which the next steps damp (F1, imex4, dt 0.43, with the
+  // SPGMR kiln used before, five Krylov vectors: 1.19 widths, then 0.57, 0.06). Growth keeps rising, by |R| > 1
+  // per step (forward Euler at 3.5 times its limit: 6). So the run stops when the excursion
+  // exceeds a tenth of the width at two successive checks and has grown between them, or at the
+  // run's last check, after which nothing can show it shrink; anything less is an accuracy figure.
+  // A tenth, not the whole width: a short run must show its growth within a few steps (a sweep of
+  // erk4 on T4, three steps a run, puts the boundary at 0.157 s with a tenth, 0.164 s with the
+  // whole width, against 0.149 s for RK4's stability interval).
+  double excursion = 0;
+  int worst = -1;
+  for (int i = 0; i < sys_.particles(); ++i) {
+    const double temp = y[sys_.temperature_at() + i];
+    const double beyond = std::max(low_ - temp, temp - high_);
+    if (beyond > excursion) {
+      excursion = beyond;
+      worst = i;
+    }
+  }
+  if (excursion > overshoot_) {
+    overshoot_ = excursion;
+    overshoot_particle_ = worst;
+    overshoot_time_ = t;
+  }
+  const double before = previous_excursion_;
+  previous_excursion_ = excursion;
+  const double threshold = 0.1 * width_;
+  const bool last = t >= scene_.t_end - 1e-9 * dt_;  // as run_scene ends its stages
+  const bool growing = before > threshold && excursion > before;
+  if (excursion > threshold && (growing || last)) {
+    std::ostringstream s;
+    s << "temperature of particle " << worst << " is " << y[sys_.temperature_at() + worst]
+      << ", beyond the range of the initial and wall temperatures [" << low_ << ", " << high_ << "] by " << excursion
+      << " K, more than a tenth of the range's width ";
+    if (growing)
+      s << "and up from " << before << " K at the previous check";
+    else
+      s << "at the run's last check";
+    s << " (maximum principle of conduction)";
+    fail(t, s.str());
+  }
+}
+
+void StabilityGuard::energy(double t, const EnergyLedger& now) {
+  // The yardstick is the largest exchange so far, not this instant's: at the apex of an elastic
+  // bounce the kinetic energy and the potential change are back to zero, and an error of 1e-6 of
+  // the bounce read as a blow-up. Both signs count: a dashpot driven unstable books negative
+  // dissipation, so the energy it creates shows as a loss in the balance.
+  const double error = balance_error(initial_, now);
+  // A finite state can still hold energies that overflow (a speed of 1e155 m/s squares to
+  // infinity); infinity minus infinity would then pass every comparison below.
+  if (!std::isfinite(error) || !std::isfinite(exchanged(initial_, now))) {
+    std::ostringstream s;
+    s << "energy overflow: the ledger holds a non-finite energy (kinetic " << now.kinetic << " J, potential "
+      << now.potential << " J, elastic " << now.elastic << " J)";
+    fail(t, s.str());
+  }
+  largest_exchange_ = std::max(largest_exchange_, exchanged(initial_, now));
+  if (!(largest_exchange_ > 0)) return;
+  const double relative = std::abs(error) / largest_exchange_;
+  if (relative > worst_relative_error_) {
+    worst_relative_error_ = relative;
+    worst_error_time_ = t;
+  }
+  const double rounding = rounding_per_step_ * static_cast<double>(steps_);
+  if (std::abs(error) > blow_up_fraction * largest_exchange_ + rounding) {
+    std::ostringstream s;
+    s << "energy blow-up: the ledger is off by " << error << " J, more than " << blow_up_fraction
+      << " of the largest energy exchanged so far (" << largest_exchange_ << " J) plus the positions' round-off ("
+      << rounding << " J)";
+    fail(t, s.str());
+  }
+}
+
+nlohmann::json StabilityGuard::figures() const {
+  nlohmann::json f = {{"energy_balance",
+                       {{"largest_exchange", largest_exchange_},
+                        {"worst_relative_error", worst_relative_error_},
+                        {"worst_at", worst_error_time_},
+                        {"blow_up_above", blow_up_fraction},
+                        {"round_off_allowance", rounding_per_step_ * static_cast<double>(steps_)}}}};
+  if (sys_.thermal()) {
+    const double width = width_;
+    const bool any = overshoot_particle_ >= 0;
+    f["max_principle_overshoot"] = {{"kelvin", overshoot_},
+                                    {"fraction_of_range", overshoot_ / width},
+                                    {"particle", any ? nlohmann::json(overshoot_particle_) : nlohmann::json(nullptr)},
+                                    {"time", any ? nlohmann::json(overshoot_time_) : nlohmann::json(nullptr)},
+                                    {"range", {low_, high_}}};
+  }
+  return f;
+}
+
+void StabilityGuard::fail(double t, const std::string& what) const {
+  std::ostringstream s;
+  s << "unstable run at t = " << t << " s: " << what << ". dt = " << dt_ << " s; ";
+  if (std::isinf(heat_limit_))
+    s << "conduction is implicit here: no step limit applies (an inexact stage solve?)";
+  else if (!std::isnan(heat_limit_))
+    s << "explicit conduction of this network is stable below dt = " << heat_limit_
+      << " s with this integrator (IMEX integrators, imex1 and imex3 to imex5, have no such limit)";
+  else
+    s << "the stability estimate recommends dt <= " << estimate_.recommended_dt << " s (contact duration "
+      << estimate_.contact_duration << " s, " << estimate_.shortest_pair << "; limit " << estimate_.dt_limit << " s"
+      << (std::isfinite(estimate_.thermal_dt_limit)
+              ? "; conduction limit " + std::to_string(estimate_.thermal_dt_limit) + " s)"
+              : std::string(")"));
+  throw InstabilityError(s.str());
+}
+
+void StabilityGuard::save(Snapshot& s) const {
+  s.put("checks.measured", {largest_exchange_, worst_relative_error_, worst_error_time_, overshoot_, overshoot_time_,
+                            previous_excursion_});
+  s.put_integers("checks.counts", std::vector<long>{steps_, overshoot_particle_});
+}
+
+void StabilityGuard::restore(const Snapshot& s) {
+  const std::vector<double>& m = s.reals("checks.measured");
+  largest_exchange_ = m.at(0);
+  worst_relative_error_ = m.at(1);
+  worst_error_time_ = m.at(2);
+  overshoot_ = m.at(3);
+  overshoot_time_ = m.at(4);
+  previous_excursion_ = m.at(5);
+  const std::vector<long long>& counts = s.integers("checks.counts");
+  steps_ = counts.at(0);
+  overshoot_particle_ = static_cast<int>(counts.at(1));
+}
+
+}  // namespace kiln

@@ -1,0 +1,135 @@
+// What a run does besides the mechanics: heat, the integrator and its steps, the run's checks,
+// its early stop and the quantities it reports.
+#include "src/scene/scene_parts.h"
+
+#include <algorithm>
+#include "integrators/integrator.h"
+#include "src/observers/observers.h"
+
+namespace kiln::scene_parts {
+
+namespace {
+
+// The integrators a scene names exist and suit their stages: made once here (an unknown name is
+// reported at its key; rtol and contact events are checked where the run makes it, since studies
+// override the integrator after loading), and IMEX Euler only where no contact is integrated (its
+// forward Euler grows every undamped contact oscillation).
+void check_integrators(const SceneNode& root, const Scene& scene) {
+  auto check = [&](const SceneNode* node, const std::string& name, bool mechanics) {
+    try {
+      make_integrator(name);
+    } catch (const InputError& e) {
+      if (node) node->fail(e.what());
+      throw;
+    }
+    if (mechanics && name == "imex1") {
+      const std::string why =
+          "imex1 integrates heat on frozen networks only: its explicit Euler part is unstable on undamped contacts. Use "
+          "it with 'mechanics: frozen' or as 'freeze.integrator'; for moving grains pick imex3, imex4 or imex5";
+      if (node) node->fail(why);
+      throw InputError(why);
+    }
+  };
+  const auto integrator_node = root.optional("integrator");
+  check(integrator_node ? &*integrator_node : nullptr, scene.integrator, !scene.frozen);
+  if (const auto freeze = root.optional("freeze"))
+    if (const auto i = freeze->optional("integrator")) check(&*i, scene.freeze.integrator, false);
+}
+
+// The steps: integrator, tolerances, dt, t_end and frames.
+
+}  // namespace
+
+void read_heat(const SceneNode& root, Scene& scene) {
+  if (auto h = root.optional("heat_from_dissipation")) {
+    const std::string mode = h->choice({"none", "friction", "all"});
+    scene.heat_from_dissipation = mode == "all"        ? HeatFromDissipation::all
+                                  : mode == "friction" ? HeatFromDissipation::friction
+                                                       : HeatFromDissipation::none;
+  }
+  if (auto m = root.optional("mechanics")) scene.frozen = m->choice({"dynamic", "frozen"}) == "frozen";
+  if (auto f = root.optional("freeze")) {
+    f->allow();
+    scene.freeze.enabled = true;
+    scene.freeze.kinetic_energy_below = (*f)["kinetic_energy_below"].positive();
+    if (auto n = f->optional("not_before")) scene.freeze.not_before = n->non_negative();
+    if (auto l = f->optional("latest")) scene.freeze.latest = l->positive();
+    scene.freeze.dt = (*f)["dt"].positive();
+    if (auto o = f->optional("output_interval")) scene.freeze.output_interval = o->positive();
+    if (auto i = f->optional("integrator")) scene.freeze.integrator = i->text();
+  }
+  if (scene.thermal) {
+    for (int i = 0; i < scene.n_particles(); ++i) {
+      const Material& m = scene.materials[scene.material[i]];
+      if (!(m.specific_heat > 0 && m.conductivity > 0))
+        root["materials"][m.name].fail("particles of a thermal scene need specific_heat and conductivity");
+    }
+    return;
+  }
+  const char* needs_heat = root.has("heat_from_dissipation") ? "heat_from_dissipation"
+                           : root.has("freeze")              ? "freeze"
+                                                             : nullptr;
+  if (needs_heat) root[needs_heat].fail("this scene carries no temperatures (give particle sets a 'temperature')");
+  if (scene.frozen) root["mechanics"].fail("mechanics: frozen leaves nothing to integrate without temperatures");
+  for (size_t w = 0; w < scene.walls.size(); ++w)
+    if (scene.walls[w].temperature.isothermal())
+      root["walls"].items()[w]["temperature"].fail("this scene carries no temperatures (give particle sets a 'temperature')");
+}
+
+void read_stepping(const SceneNode& root, Scene& scene) {
+  if (auto i = root.optional("integrator")) scene.integrator = i->text();
+  // Below 1e-14 no integrator can meet the tolerance in double precision: ARKODE fails its steps.
+  if (auto r = root.optional("rtol")) scene.control.rtol = r->in_range(1e-14, 1, false, true);
+  // atol: a number for every component, or per field {position, velocity, angle, temperature, other}.
+  if (auto a = root.optional("atol")) {
+    if (a->is_map()) {
+      a->allow();
+      auto field = [&](const char* key, double fallback) { return a->has(key) ? (*a)[key].positive() : fallback; };
+      scene.control.atol = field("other", 0);
+      scene.control.atol_position = field("position", NAN);
+      scene.control.atol_velocity = field("velocity", NAN);
+      scene.control.atol_angle = field("angle", NAN);
+      scene.control.atol_temperature = field("temperature", NAN);
+    } else {
+      scene.control.atol = a->positive();
+    }
+  }
+  // Whether the integrator can adapt or locate events is checked where it is made (make_integrator).
+  if (auto e = root.optional("contact_events")) scene.control.contact_events = e->boolean();
+  if (auto l = root.optional("linear_solver")) {
+    scene.control.linear_solver =
+        l->choice({"cholesky", "cg"}) == "cg" ? LinearSolverKind::cg : LinearSolverKind::cholesky;
+  }
+  check_integrators(root, scene);
+  // How many steps that makes is judged with the other limits of dt (judge_dt), which --force overrides.
+  scene.dt = root["dt"].positive();
+  scene.t_end = root["t_end"].positive();
+  if (scene.dt > scene.t_end) root["dt"].fail("dt is longer than t_end");
+  scene.output_interval = root.has("output_interval") ? root["output_interval"].positive() : scene.t_end / 100;
+}
+
+// The run's own checks, its early stop, and the quantities it reports.
+void read_checks(const SceneNode& root, Scene& scene) {
+  if (auto s = root.optional("skin")) scene.skin = length(*s);
+  if (auto checks = root.optional("checks")) {
+    checks->allow();
+    if (auto f = checks->optional("max_overlap_fraction")) scene.max_overlap_fraction = f->in_range(0, 1, true, false);
+  }
+  if (auto stop = root.optional("stop")) {
+    stop->allow();
+    scene.stop_kinetic_energy = (*stop)["kinetic_energy_below"].positive();
+    if (auto n = stop->optional("not_before")) scene.stop_not_before = n->non_negative();
+  }
+  if (auto report = root.optional("report")) {
+    for (const SceneNode& q : report->items()) {
+      const std::string name = q.text();
+      const auto& known = observer_names();
+      if (std::find(known.begin(), known.end(), name) == known.end())
+        q.fail("unknown quantity '" + name + "'; available: " + choices_nearest_first(name, known));
+      if (const std::string need = observer_needs(name, scene); !need.empty()) q.fail("'" + name + "' needs " + need);
+      scene.report.push_back(name);
+    }
+  }
+}
+
+}  // namespace kiln::scene_parts

@@ -1,0 +1,162 @@
+// The scene: everything a run needs, fully expanded and validated (particle sets already filled,
+// walls already flattened to segments). Built by scene_yaml.cpp; read by the DEM system and outputs.
+#pragma once
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "contact/rolling_resistance.h"
+#include "integrators/step_control.h"
+#include "src/geometry/periodic_cell.h"
+#include "src/base/vec2.h"
+#include "thermal/conductance.h"
+#include "thermal/wall_temperature.h"
+
+namespace kiln {
+
+// Physical ranges of lengths (m). A disc below a nanometre is a few atoms, which the contact
+// mechanics of continua does not describe. Coordinates stay within 1000 km of the origin: over
+// nanometre discs, farther ones would overflow the 64-bit cell indices of the fill grid and the
+// float boxes of the neighbour search.
+inline constexpr double shortest_length = 1e-9;
+inline constexpr double farthest_coordinate = 1e6;
+
+enum class MassModel { sphere, cylinder };
+enum class NormalModel { linear, hertz };
+
+struct Material {
+  std::string name;
+  double density = 0;          // kg/m^3; 0 for wall-only materials
+  double youngs_modulus = 0;   // Pa; needed by Hertz contacts and the Rayleigh estimate
+  double poisson_ratio = 0.3;
+  double stiffness = 0;        // N/m, linear normal spring
+  double restitution = 1;      // normal coefficient of restitution in (0, 1]
+  double friction = 0;         // Coulomb coefficient
+  double rolling_friction = 0; // rolling resistance coefficient mu_r
+  double specific_heat = 0;          // J/(kg K)
+  double conductivity = 0;           // W/(m K)
+  double electrical_resistivity = 0; // Ohm m, shares frictional heat (0: not given)
+};
+
+// Contact law parameters for one unordered pair of materials.
+struct PairLaw {
+  NormalModel model = NormalModel::linear;
+  double stiffness = 0;          // linear: k (N/m)
+  double effective_modulus = 0;  // Hertz: E* with 1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2
+  double restitution = 1;        // used unless damping_rate > 0
+  double damping_rate = 0;       // gamma_n (1/s): linear dashpot c = m_eff gamma_n
+  bool tension = true;           // false: the normal force is clamped at zero (no attraction)
+  double friction = 0;
+  double tangential_stiffness_ratio = 2.0 / 7.0;  // k_t / k_n
+  double tangential_damping_ratio = 0.5;          // c_t / c_n
+  double rolling_friction = 0;
+  contact::RollingModel rolling_model = contact::RollingModel::constant;
+  double rolling_damping_ratio = 0.3;  // epsd: eta_r
+  // Heat conduction through the contact (thermal scenes).
+  thermal::ConductionModel conduction = thermal::ConductionModel::lens;
+  double conductance = 0;          // constant model: H (W/K)
+  double modulus_ratio = 1;        // batchelor_obrien: E_simulated / E_real
+  double contact_resistance = 0;   // pipe_network: R_c per unit length (m K/W)
+};
+
+// What mechanical dissipation becomes heat in the particles.
+enum class HeatFromDissipation { none, friction, all };
+
+// How a wall (all its segments, and the particles attached to it) moves as one rigid body.
+// load_controlled: a body of mass `mass` driven at `velocity` and free along the direction of the
+// constant force `load` (perpendicular to it), where the particles push it and a dashpot
+// `damping` slows it (Nguyen's shear cell: V along x, the normal load F along -y). Its weight is
+// not added: give it in `load`. Its position along the load is part of the state.
+struct WallMotion {
+  enum class Kind { fixed, translate, rotate, load_controlled } kind = Kind::fixed;
+  Vec2 velocity;        // translate, load_controlled: m/s
+  double distance = 0;  // translate: the wall stops after travelling this far (m)
+  Vec2 centre;          // rotate: centre of rotation
+  double omega = 0;     // rotate: rad/s, counter-clockwise positive
+  Vec2 load;            // load_controlled: N
+  double mass = 0;      // load_controlled: kg
+  double damping = 0;   // load_controlled: N s/m, along the load
+};
+
+// One straight wall piece. A particle touching a shared vertex is handled by exactly one of the
+// two segments meeting there (see dem_system.cpp, wall contacts).
+struct Segment {
+  Vec2 a, b;              // endpoints at t = 0
+  int wall = 0;           // index of the wall it came from (motion, material)
+  int prev = -1;          // segment whose end b is this segment's a (polyline neighbour), or -1
+  bool next_shared = false;  // this segment's b is the next segment's a
+};
+
+struct Wall {
+  std::string name;
+  int material = 0;
+  WallMotion motion;
+  thermal::WallTemperature temperature;  // adiabatic unless given
+};
+
+// Settle, then freeze: once the kinetic energy falls below a threshold (not before `not_before`,
+// at the latest at `latest`), positions and contact forces are fixed and only heat is integrated,
+// with its own time step, until t_end.
+struct FreezeStage {
+  bool enabled = false;
+  double kinetic_energy_below = 0;
+  double not_before = 0;
+  double latest = INFINITY;
+  double dt = 0;
+  double output_interval = 0;
+  std::string integrator;  // of the frozen stage; empty: the scene's
+};
+
+
+struct Scene {
+  std::string name;
+  std::string file;        // scene file path, for messages and attributes
+  std::string description;
+  MassModel mass_model = MassModel::sphere;
+  double thickness = 0;    // cylinder mass model
+  Vec2 gravity{0, -9.81};
+
+  std::vector<Material> materials;
+  int n_materials() const { return static_cast<int>(materials.size()); }
+  std::vector<PairLaw> laws;  // n_materials^2, symmetric
+  const PairLaw& law(int a, int b) const { return laws[a * n_materials() + b]; }
+
+  // Particles (structure of arrays).
+  std::vector<Vec2> position, velocity;
+  std::vector<double> radius, angular_velocity;
+  std::vector<int> material;
+  std::vector<double> temperature;  // thermal scenes only
+  // Each particle free (-1), fixed in place (-2), or attached to wall w (w >= 0): an attached or
+  // fixed particle moves with its wall and takes no forces; what pushes it pushes the wall.
+  std::vector<int> attached;
+  static constexpr int free_particle = -1, fixed_particle = -2;
+  int n_particles() const { return static_cast<int>(radius.size()); }
+
+  // Heat. A scene is thermal when its particles carry temperatures; otherwise no temperature is
+  // integrated and nothing about heat is computed.
+  bool thermal = false;
+  HeatFromDissipation heat_from_dissipation = HeatFromDissipation::none;
+  bool frozen = false;  // mechanics frozen from the start: a thermal-only scene
+  FreezeStage freeze;
+
+  std::vector<Wall> walls;
+  std::vector<Segment> segments;
+  PeriodicCell periodic;  // no periodic axis unless given
+  // The files the scene read besides itself (SVG drawings, particle files), each as "path<TAB>FNV-1a
+  // hash of its bytes": a checkpoint records them, and a restart refuses files changed since.
+  std::vector<std::string> inputs;
+
+  // Integration and output.
+  std::string integrator = "velocity-verlet";
+  StepControl control;  // rtol/atol: adaptive stepping for integrators with an error estimate
+  double dt = 0;
+  double t_end = 0;
+  double output_interval = 0;
+  double skin = 0;                    // neighbour skin (m); 0 = automatic
+  double max_overlap_fraction = 0.5;  // instability check: overlap / smaller radius
+  double stop_kinetic_energy = 0;     // stop early when kinetic energy falls below (J); 0 = never
+  double stop_not_before = 0;         // ... but not before this time
+  std::vector<std::string> report;    // case quantities to compute (observers.cpp)
+};
+
+}  // namespace kiln

@@ -1,0 +1,303 @@
+#include "src/scene/scene_reader.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cfloat>
+#include <cmath>
+
+#include "src/base/nearest.h"
+
+namespace kiln {
+
+namespace {
+
+// Keys are words (documented keys, material names): a longer one is garbage, and echoing it in
+// every message would bury the message.
+constexpr size_t max_key_length = 100;
+
+std::string join(const std::string& path, const std::string& key) { return path.empty() ? key : path + "." + key; }
+
+// Walks the whole document once, as it will be read (aliases expanded), counting the values.
+class StructureWalk {
+ public:
+  StructureWalk(const Location& origin, size_t max_values) : origin_(origin), max_values_(max_values) {}
+
+  void visit(const YAML::Node& node, const std::string& path) {
+    if (++seen_ > max_values_)
+      throw InputError(at(node, path), "the scene expands to more than " + std::to_string(max_values_) +
+                                           " values: aliases (*name) repeat a part of it too often");
+    if (node.IsSequence()) {
+      size_t index = 0;
+      for (const YAML::Node& item : node) visit(item, join(path, std::to_string(index++)));
+    } else if (node.IsMap()) {
+      visit_map(node, path);
+    }
+  }
+
+ private:
+  void visit_map(const YAML::Node& map, const std::string& path) {
+    std::map<std::string, Location> first;
+    for (const auto& kv : map) {
+      if (!kv.first.IsScalar()) throw InputError(at(kv.first, path), "a key must be a plain word, not a list or a map");
+      const std::string& key = kv.first.Scalar();
+      if (key.size() > max_key_length)
+        throw InputError(at(kv.first, path), "a key of " + std::to_string(key.size()) +
+                                                 " characters; keys are words of at most " +
+                                                 std::to_string(max_key_length));
+      const Location here = at(kv.first, join(path, key));
+      const auto [earlier, fresh] = first.emplace(key, here);
+      if (!fresh)
+        throw InputError(here, "given twice (also " + describe_line(earlier->second) +
+                                   "); YAML would keep only the first: remove one of them");
+      visit(kv.second, here.key);
+    }
+  }
+  Location at(const YAML::Node& node, const std::string& path) const {
+    const YAML::Mark mark = node.Mark();
+    const bool has_line = origin_.line > 0 && !mark.is_null() && mark.line >= 0;
+    return {origin_.file, has_line ? mark.line + 1 : 0, join(origin_.key, path)};
+  }
+  static std::string describe_line(const Location& l) {
+    return l.line > 0 ? "at line " + std::to_string(l.line) : "before";
+  }
+  Location origin_;
+  size_t max_values_;
+  size_t seen_ = 0;
+};
+
+}  // namespace
+
+std::string schema_child(const KeySchema& schema, const std::string& parent, const std::string& key, bool in_list) {
+  const auto keys = schema.find(parent);
+  const bool named = keys != schema.end() && keys->second.size() == 1 && keys->second.front() == "*";
+  return join(parent, in_list || named ? "*" : key);
+}
+
+bool valid_utf8(const std::string& text) {
+  try {
+    (void)nlohmann::json(text).dump();
+  } catch (const nlohmann::json::type_error&) {
+    return false;
+  }
+  return true;
+}
+
+void check_utf8(const std::string& text, const std::string& file) {
+  if (valid_utf8(text)) return;
+  // The newline byte never occurs inside a multi-byte character: lines can be checked one by one.
+  int line = 1;
+  for (size_t start = 0; start <= text.size(); ++line) {
+    const size_t end = std::min(text.find('\n', start), text.size());
+    if (!valid_utf8(text.substr(start, end - start)))
+      throw InputError({file, line, ""}, "not valid UTF-8 (a byte of another encoding, such as Latin-1): save the "
+                                         "file as UTF-8");
+    start = end + 1;
+  }
+}
+
+void check_structure(const YAML::Node& doc, const Location& origin, size_t max_values) {
+  StructureWalk(origin, max_values).visit(doc, "");
+}
+
+// A value replaced by --set (or inside one) is blamed on the command line, not the file.
+bool SceneNode::from_command_line(const std::string& path) const {
+  for (const std::string& p : source_->overridden)
+    if (path == p || (path.size() > p.size() && path.compare(0, p.size(), p) == 0 && path[p.size()] == '.')) return true;
+  return false;
+}
+
+Location SceneNode::location() const {
+  const YAML::Mark mark = node_.Mark();
+  if (from_command_line(path_) || mark.is_null() || mark.line < 0) return {"--set", 0, path_};
+  return {source_->file, mark.line + 1, path_};
+}
+
+void SceneNode::fail(const std::string& message) const { throw InputError(location(), message); }
+
+std::string SceneNode::child_path(const std::string& key) const { return join(path_, key); }
+
+SceneNode SceneNode::child(YAML::Node node, const std::string& key) const {
+  const std::string pattern = schema_child(*source_->schema, pattern_, key, node_.IsSequence());
+  std::string path = child_path(key);
+  source_->read.insert(path);
+  return SceneNode(std::move(node), std::move(path), pattern, source_);
+}
+
+void SceneNode::check_all_read() const {
+  if (node_.IsMap()) {
+    for (const auto& kv : node_) {
+      const std::string path = child_path(kv.first.Scalar());
+      if (!source_->read.count(path)) {
+        const YAML::Mark mark = kv.first.Mark();
+        Location at{source_->file, mark.line + 1, path};
+        if (from_command_line(path) || mark.is_null() || mark.line < 0) at = {"--set", 0, path};
+        std::vector<std::string> used;
+        for (const auto& other : node_)
+          if (source_->read.count(child_path(other.first.Scalar()))) used.push_back(other.first.Scalar());
+        throw InputError(at, "'" + kv.first.Scalar() + "' does not apply here: nothing reads it with the other keys "
+                             "of this entry (read here: " + (used.empty() ? std::string("none") : choices_nearest_first(kv.first.Scalar(), used)) +
+                             "); remove it");
+      }
+      child(kv.second, kv.first.Scalar()).check_all_read();
+    }
+  } else if (node_.IsSequence()) {
+    for (size_t i = 0; i < node_.size(); ++i)
+      if (source_->read.count(child_path(std::to_string(i)))) child(node_[i], std::to_string(i)).check_all_read();
+  }
+}
+
+void SceneNode::fail_unknown_key(const YAML::Node& key, const std::vector<std::string>& valid) const {
+  const YAML::Mark mark = key.Mark();
+  const std::string path = child_path(key.Scalar());
+  Location at{source_->file, mark.line + 1, path};
+  if (from_command_line(path) || mark.is_null() || mark.line < 0) at = {"--set", 0, path};
+  throw InputError(at, "unknown key; valid keys here are " + choices_nearest_first(key.Scalar(), valid));
+}
+
+const SceneNode& SceneNode::allow() const {
+  const auto keys = source_->schema->find(pattern_);
+  if (keys == source_->schema->end()) fail("no keys are documented here (" + pattern_ + ")");
+  if (!node_.IsMap()) fail("expected a map with keys " + choices_nearest_first("", keys->second));
+  for (const auto& kv : node_)
+    if (std::find(keys->second.begin(), keys->second.end(), kv.first.Scalar()) == keys->second.end())
+      fail_unknown_key(kv.first, keys->second);
+  return *this;
+}
+
+const SceneNode& SceneNode::allow(std::initializer_list<const char*> allowed) const {
+  const std::vector<std::string> valid(allowed.begin(), allowed.end());
+  if (!node_.IsMap()) fail("expected a map with keys " + choices_nearest_first("", valid));
+  for (const auto& kv : node_)
+    if (std::find(valid.begin(), valid.end(), kv.first.Scalar()) == valid.end()) fail_unknown_key(kv.first, valid);
+  return *this;
+}
+
+bool SceneNode::has(const std::string& key) const { return node_.IsMap() && node_[key]; }
+
+SceneNode SceneNode::operator[](const std::string& key) const {
+  if (!node_.IsMap()) fail("expected a map containing '" + key + "'");
+  YAML::Node child = node_[key];
+  if (!child) fail("missing required key '" + key + "'");
+  return this->child(child, key);
+}
+
+std::optional<SceneNode> SceneNode::optional(const std::string& key) const {
+  if (!has(key)) return std::nullopt;
+  return (*this)[key];
+}
+
+std::vector<SceneNode> SceneNode::items() const {
+  if (!node_.IsSequence()) fail("expected a list");
+  std::vector<SceneNode> out;
+  for (size_t i = 0; i < node_.size(); ++i)
+    out.push_back(child(node_[i], std::to_string(i)));
+  return out;
+}
+
+std::vector<std::pair<std::string, SceneNode>> SceneNode::entries() const {
+  if (!node_.IsMap()) fail("expected a map");
+  std::vector<std::pair<std::string, SceneNode>> out;
+  for (const auto& kv : node_) {
+    const std::string key = kv.first.Scalar();
+    out.emplace_back(key, child(kv.second, key));
+  }
+  return out;
+}
+
+double SceneNode::number(const char* expected) const {
+  if (!node_.IsScalar()) fail(std::string("expected ") + expected);
+  double v = 0;
+  try {
+    v = node_.as<double>();
+  } catch (const YAML::Exception&) {
+    fail(std::string("expected ") + expected + ", got '" + text() + "'");
+  }
+  if (!std::isfinite(v)) fail("expected a finite number, got '" + node_.Scalar() + "'");
+  return v;
+}
+
+double SceneNode::positive() const {
+  const double v = number("a positive number");
+  if (!(v > 0)) fail("expected a positive number, got " + node_.Scalar());
+  if (v < DBL_MIN)
+    fail("expected a positive number of at least 2.2e-308, got " + node_.Scalar() +
+         " (a subnormal number has lost its significant digits)");
+  return v;
+}
+
+double SceneNode::non_negative() const {
+  const double v = number("a number >= 0");
+  if (v < 0) fail("expected a number >= 0, got " + node_.Scalar());
+  return v;
+}
+
+double SceneNode::in_range(double lo, double hi, bool lo_open, bool hi_open) const {
+  const double v = number();
+  const bool ok = (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
+  if (!ok) {
+    fail("expected a value in " + std::string(lo_open ? "(" : "[") + YAML::Node(lo).Scalar() + ", " +
+         YAML::Node(hi).Scalar() + (hi_open ? ")" : "]") + ", got " + node_.Scalar());
+  }
+  return v;
+}
+
+// Every whole number of a scene is read here, in 64 bits and checked against its range, so that
+// no count wraps around when it is narrowed (4294967298 columns are not 2).
+long long SceneNode::integer(long long min_value, long long max_value) const {
+  const std::string range = "a whole number in [" + std::to_string(min_value) + ", " + std::to_string(max_value) + "]";
+  if (!node_.IsScalar()) fail("expected " + range);
+  long long v = 0;
+  try {
+    v = node_.as<long long>();
+  } catch (const YAML::Exception&) {
+    fail("expected " + range + ", got '" + text() + "'");
+  }
+  if (v < min_value || v > max_value) fail("expected " + range + ", got " + node_.Scalar());
+  return v;
+}
+
+double SceneNode::temperature() const {
+  constexpr double absolute_zero = -273.15;  // scenes give temperatures in degrees Celsius
+  const double t = number("a temperature (degrees Celsius)");
+  if (t < absolute_zero) fail("a temperature of " + node_.Scalar() + " C is below absolute zero (-273.15 C)");
+  return t;
+}
+
+bool SceneNode::boolean() const {
+  if (!node_.IsScalar()) fail("expected true or false");
+  try {
+    return node_.as<bool>();
+  } catch (const YAML::Exception&) {
+    fail("expected true or false, got '" + text() + "'");
+  }
+}
+
+std::string SceneNode::text() const {
+  if (!node_.IsScalar()) fail("expected a text value");
+  const std::string& s = node_.Scalar();
+  if (s.size() > max_text_length)
+    fail("a text of " + std::to_string(s.size()) + " characters; at most " + std::to_string(max_text_length) +
+         " are read");
+  return s;
+}
+
+std::string SceneNode::choice(std::initializer_list<const char*> valid) const {
+  const std::string v = text();
+  for (const char* c : valid)
+    if (v == c) return v;
+  fail("unknown value '" + v + "'; valid choices are " + choices_nearest_first(v, {valid.begin(), valid.end()}));
+}
+
+Vec2 SceneNode::vec2() const {
+  if (!node_.IsSequence() || node_.size() != 2) fail("expected a pair [x, y]");
+  const auto xy = items();
+  return {xy[0].number(), xy[1].number()};
+}
+
+double SceneNode::number_or(const std::string& key, double fallback) const {
+  const auto child = optional(key);
+  return child ? child->number() : fallback;
+}
+
+}  // namespace kiln

@@ -1,0 +1,259 @@
+#include "src/studies/study_runs.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <numeric>
+#include <thread>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+#include <sched.h>
+
+#include "src/base/error.h"
+#include "src/run/stability.h"
+#include "src/studies/exact_solutions.h"
+#include "src/base/nearest.h"
+#include "src/output/outputs.h"
+#include "src/scene/overrides.h"
+#include "src/base/progress.h"
+#include "src/scene/scene_yaml.h"
+#include "src/run/simulation.h"
+#include "src/studies/study_ranks.h"
+#include "src/base/subprocess.h"
+
+namespace kiln {
+
+std::vector<std::string> study_quantities(const Scene& scene) {
+  std::vector<std::string> q = {"position", "velocity"};
+  if (scene.thermal) q.push_back("temperature");
+  for (const std::string& r : scene.report) {
+    if (r == "heap") q.insert(q.end(), {"heap_angle_deg", "packing_fraction"});
+    if (r == "mixing") q.insert(q.end(), {"mixing_index", "bed_tilt_deg"});
+    if (r == "incline_motion") q.insert(q.end(), {"incline_acceleration", "slip_ratio"});
+    if (r == "temperatures") q.insert(q.end(), {"temperature_mean", "temperature_std", "temperature_min", "temperature_max", "heat_content"});
+  }
+  return q;
+}
+
+std::string default_quantity(const Scene& scene, bool heat_stage) {
+  return scene.frozen || heat_stage ? "temperature" : "position";
+}
+
+void check_quantity(const Scene& scene, const std::string& quantity) {
+  const auto available = study_quantities(scene);
+  if (std::find(available.begin(), available.end(), quantity) == available.end())
+    throw InputError("unknown quantity '" + quantity + "' for scene '" + scene.name + "'; available: " +
+                     choices_nearest_first(quantity, available));
+}
+
+double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  double worst = 0;
+  for (size_t k = 0; k < a.size() && k < b.size(); ++k) worst = std::max(worst, std::abs(a[k] - b[k]));
+  return worst;
+}
+
+namespace {
+
+std::vector<double> quantity_of(const std::string& q, const FinalFields& f, const nlohmann::json& summary) {
+  if (q == "position") return f.position;
+  if (q == "velocity") return f.velocity;
+  if (q == "temperature") return f.temperature;
+  const nlohmann::json& v = summary.at(q);  // null when the case could not measure it (a heap too small)
+  return {v.is_null() ? NAN : v.get<double>()};
+}
+
+void run_one(const std::string& path, const std::vector<std::string>& base_sets, double t_end, const std::string& q,
+             bool heat_stage, StudyRun& run) {
+  std::vector<std::string> sets = base_sets;
+  sets.push_back((heat_stage ? "freeze.integrator=" : "integrator=") + run.integrator);
+  sets.push_back(assignment(heat_stage ? "freeze.dt" : "dt", run.dt));
+  sets.push_back(assignment("t_end", t_end));
+  sets.insert(sets.end(), run.sets.begin(), run.sets.end());
+  try {
+    // One frame at the end (no steps shortened to land on frames), unless the scene freezes or
+    // stops by its kinetic energy: that is checked at its frames, so it keeps them.
+    Scene scene = load_scene(path, sets);
+    if (!scene.freeze.enabled && scene.stop_kinetic_energy == 0) scene.output_interval = t_end;
+    const int runs = run.repeats > 1 ? run.repeats + 1 : 1;  // a warm-up first when timing
+    double best = INFINITY;
+    for (int k = 0; k < runs; ++k) {
+      FinalFields fields;
+      const nlohmann::json s = run_scene(scene, {"", true, &fields});
+      // A study of the heating stage counts that stage's cost alone (the settling is the same in
+      // every run).
+      const nlohmann::json& cost = heat_stage ? s["integrator_stats"]["heat_stage"] : s;
+      if (runs == 1 || k > 0) best = std::min(best, cost["wall_seconds"].get<double>());
+      run.value = quantity_of(q, fields, s);
+      run.rhs_evals = cost["rhs_evals"].get<long>();
+    }
+    run.seconds = best;
+  } catch (const InstabilityError& e) {
+    run.unstable = true;
+    run.failure = e.what();
+  } catch (const std::exception& e) {
+    run.failure = e.what();
+  }
+}
+
+// What one run of `runs` costs, relative to the others: its steps, times its timed repeats.
+double cost_of(const StudyRun& run) { return (run.repeats > 1 ? run.repeats + 1 : 1) / run.dt; }
+
+// The runs this rank runs, costliest first: each run, costliest first, goes to the rank with the
+// least work so far (ties: the lower rank), so the levels of an order study, each twice the work of
+// the last, balance. Every rank computes the same assignment from the same runs.
+std::vector<size_t> runs_of_this_rank(const std::vector<StudyRun>& runs) {
+  std::vector<size_t> order(runs.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t a, size_t b) { return cost_of(runs[a]) > cost_of(runs[b]); });
+  const int rank = this_rank();
+  std::vector<double> load(rank_count(), 0.0);
+  std::vector<size_t> mine;
+  for (size_t k : order) {
+    const auto least = std::min_element(load.begin(), load.end());
+    *least += cost_of(runs[k]);
+    if (least - load.begin() == rank) mine.push_back(k);
+  }
+  return mine;
+}
+
+// Worker threads: `threads`, or (0) every core this process may run on (its CPU affinity, which
+// mpirun sets when it binds a rank), and no more than there are runs.
+size_t worker_count(int threads, size_t runs) {
+  cpu_set_t cpus;
+  const int cores = sched_getaffinity(0, sizeof cpus, &cpus) == 0 ? CPU_COUNT(&cpus)
+                                                                   : static_cast<int>(std::thread::hardware_concurrency());
+  return std::min(runs, static_cast<size_t>(std::max(1, threads > 0 ? threads : cores)));
+}
+
+// Sends the results of this rank's runs to every rank and fills in everyone's (src/studies/study_ranks.h),
+// as CBOR: doubles exactly, NaN included. Without MPI the results go through the same encoding.
+void share_results(std::vector<StudyRun>& runs, const std::vector<size_t>& mine) {
+  nlohmann::json block = nlohmann::json::array();
+  for (size_t k : mine) {
+    const StudyRun& r = runs[k];
+    block.push_back({{"run", k}, {"value", r.value}, {"rhs_evals", r.rhs_evals}, {"seconds", r.seconds},
+                     {"unstable", r.unstable}, {"failure", r.failure}});
+  }
+  const std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(block);
+  std::vector<int> received(runs.size(), 0);
+  for (const std::string& from_rank : gather_on_every_rank(std::string(bytes.begin(), bytes.end()))) {
+    for (const nlohmann::json& r : nlohmann::json::from_cbor(from_rank)) {
+      const size_t k = r["run"].get<size_t>();
+      StudyRun& run = runs.at(k);
+      run.value = r["value"].get<std::vector<double>>();
+      run.rhs_evals = r["rhs_evals"].get<long>();
+      run.seconds = r["seconds"].get<double>();
+      run.unstable = r["unstable"].get<bool>();
+      run.failure = r["failure"].get<std::string>();
+      ++received[k];
+    }
+  }
+  // Every run exactly once: no rank dropped one, no two ranks reported the same.
+  if (std::any_of(received.begin(), received.end(), [](int n) { return n != 1; }))
+    throw std::logic_error("the ranks' results do not cover the study's runs exactly once");
+}
+
+}  // namespace
+
+void run_study(const std::string& scene, const std::vector<std::string>& sets, double t_end, const std::string& quantity,
+               std::vector<StudyRun>& runs, int threads, bool quiet, bool heat_stage) {
+  if (heat_stage && !load_scene(scene, sets).freeze.enabled)
+    throw InputError("--heat-stage needs a scene that freezes (a 'freeze:' block): '" + scene + "' has none");
+  // The step-count limit of kiln run, before any run starts (a study of 1e-12 s steps never ended).
+  for (const StudyRun& run : runs) {
+    const bool adaptive = std::any_of(run.sets.begin(), run.sets.end(),
+                                      [](const std::string& s) { return s.rfind("rtol=", 0) == 0; });
+    if (adaptive) continue;
+    if (const auto refusal = too_many_steps(heat_stage ? "freeze.dt" : "dt", run.dt, t_end))
+      throw InputError("a run of the study with " + run.integrator + ": " +
+                       refusal->substr(0, refusal->rfind(", or run it anyway")));
+  }
+  // This rank's share (all of them without MPI), on its threads.
+  const std::vector<size_t> mine = runs_of_this_rank(runs);
+  std::atomic<size_t> next{0}, finished{0};
+  auto work = [&] {
+    // The study's threads are its runs: each run's own loops stay on its worker (OpenMP would
+    // put a team of every core's threads under each of them). Results do not depend on it.
+#ifdef _OPENMP
+    omp_set_num_threads(1);
+#endif
+    for (size_t k = next++; k < mine.size(); k = next++) {
+      run_one(scene, sets, t_end, quantity, heat_stage, runs[mine[k]]);
+      ++finished;
+    }
+  };
+  std::vector<std::thread> pool(worker_count(threads, mine.size()));
+  for (std::thread& worker : pool) worker = std::thread(work);
+  Progress progress("study", quiet);
+  while (finished < mine.size()) {
+    progress.update_runs(static_cast<long>(finished), static_cast<long>(mine.size()));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+  progress.finish();
+  for (auto& th : pool) th.join();
+  share_results(runs, mine);
+}
+
+std::vector<double> study_reference(const Scene& scene, const std::string& path, const std::vector<std::string>& sets,
+                                    const std::string& quantity, double t_end, const std::string& kind, double fine_dt,
+                                    double fine_rtol, bool heat_stage) {
+  if (kind == "analytic") {
+    const auto exact = exact_quantity(scene, quantity, t_end);
+    if (!exact)
+      throw InputError("no exact solution is registered for scene '" + scene.name + "' and quantity '" + quantity +
+                       "'; registered: " + exact_solutions_known() + ". Use --reference fine (or richardson)");
+    return *exact;
+  }
+  if (heat_stage)
+    throw InputError("--heat-stage compares with the exact solution of the settled network (--reference analytic): "
+                     "a fine adaptive run would adapt the settling stage too");
+  // A linear dashpot's force jumps at a contact's onset: without events an adaptive step fails to
+  // pass it at this tolerance. Hertz forces (Tsuji's dashpot ~ delta^(1/4)) are continuous there.
+  std::vector<std::string> tight = {assignment("rtol", fine_rtol), "atol=1e-15"};
+  const bool jumps = std::any_of(scene.laws.begin(), scene.laws.end(),
+                                 [](const PairLaw& l) { return l.model == NormalModel::linear; });
+  if (!scene.frozen && jumps) tight.push_back("contact_events=true");
+  std::vector<StudyRun> fine = {StudyRun("erk5", fine_dt, tight)};
+  run_study(path, sets, t_end, quantity, fine, 1);
+  if (!fine[0].failure.empty()) throw StudyError("the fine reference run failed: " + fine[0].failure);
+  return fine[0].value;
+}
+
+void require_a_result(const std::vector<StudyRun>& runs) {
+  if (runs.empty() || std::any_of(runs.begin(), runs.end(), [](const StudyRun& r) { return r.failure.empty(); }))
+    return;
+  throw StudyError("every run of the study failed (" + std::to_string(runs.size()) + " runs); the first: " +
+                   runs.front().failure);
+}
+
+nlohmann::json study_header(const Scene& scene, const std::string& quantity, const std::string& reference, double t_end) {
+  return {{"scene", scene.name},
+          {"quantity", quantity},
+          {"norm", "max abs over components"},
+          {"reference", reference},
+          {"t_end", t_end},
+          {"ranks", rank_count()},  // how it ran: the MPI processes (src/studies/study_ranks.h)
+          {"integrators", nlohmann::json::array()}};
+}
+
+void write_study(const std::string& dir, const std::string& name, const nlohmann::json& study, const std::string& csv) {
+  std::filesystem::create_directories(dir);
+  const std::string base = dir + "/" + name;
+  write_file_atomically(base + ".json", study.dump(2) + "\n");
+  write_file_atomically(base + ".csv", csv);
+  const ProgramResult plot = run_program(
+      {"/usr/bin/python3", std::string(KILN_SCRIPTS_DIR) + "/plot_study.py", name, base + ".json", base + ".png"});
+  if (plot.status != 0)
+    std::fprintf(stderr, "%swarning: %s.png not written (needs /usr/bin/python3 with matplotlib: apt-get install "
+                         "python3-matplotlib)\n", plot.errors.c_str(), name.c_str());
+}
+
+}  // namespace kiln

@@ -1,0 +1,64 @@
+// What the study commands share: independent runs of one scene with different integrators and
+// steps, spread over threads and, under mpirun, over ranks (src/studies/study_ranks.h; each run writes
+// only its own slot, so results never depend on the number of threads or ranks), and the
+// quantities they can be compared on.
+#pragma once
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "src/scene/scene.h"
+
+namespace kiln {
+
+struct StudyRun {
+  StudyRun(std::string name, double step, std::vector<std::string> extra = {})
+      : integrator(std::move(name)), dt(step), sets(std::move(extra)) {}
+  std::string integrator;
+  double dt;
+  std::vector<std::string> sets;  // further overrides (rtol, ...)
+  int repeats = 1;                // timed runs after one warm-up when > 1; the minimum is kept
+  // Results.
+  std::vector<double> value;  // the studied quantity at the end
+  long rhs_evals = 0;
+  double seconds = 0;         // wall time (the minimum over the repeats)
+  bool unstable = false;      // stopped by a stability check
+  std::string failure;        // why it failed, if it did
+};
+
+// Runs scene (with `sets`) to t_end for every run, showing how many have finished on a terminal
+// unless quiet. Under mpirun each rank runs a share on its `threads` workers (0: every core it may
+// run on) and every rank ends with every run's results; throws RankFailed when another rank failed.
+// With heat_stage the runs' integrators and steps are the frozen heating stage's (freeze.integrator,
+// freeze.dt): the scene settles the same way in every run.
+void run_study(const std::string& scene, const std::vector<std::string>& sets, double t_end, const std::string& quantity,
+               std::vector<StudyRun>& runs, int threads, bool quiet = true, bool heat_stage = false);
+
+// Quantities a scene can be studied on: its state fields, then the scalars its report: adds.
+std::vector<std::string> study_quantities(const Scene& scene);
+// What a study compares when no quantity is given: the temperatures of a scene whose mechanics are
+// frozen (its positions never move) or of a study of the heating stage, the positions otherwise.
+std::string default_quantity(const Scene& scene, bool heat_stage = false);
+// Fails with the available quantities, nearest first, unless `quantity` is one of them.
+void check_quantity(const Scene& scene, const std::string& quantity);
+
+// The reference values of a study: the registered exact solution ("analytic"), or the same scene
+// run with Dormand-Prince adaptive at `fine_rtol` (1e-11 unless a study asks otherwise: stiff
+// scenes with many contact onsets cost minutes there) from `fine_dt` ("fine"). Fails with the
+// registered solutions when there is none.
+std::vector<double> study_reference(const Scene& scene, const std::string& path, const std::vector<std::string>& sets,
+                                    const std::string& quantity, double t_end, const std::string& kind, double fine_dt,
+                                    double fine_rtol, bool heat_stage = false);
+
+// A study whose every run failed has no figure to report: StudyError naming the first run's reason.
+void require_a_result(const std::vector<StudyRun>& runs);
+
+// The fields every study's JSON opens with.
+nlohmann::json study_header(const Scene& scene, const std::string& quantity, const std::string& reference, double t_end);
+
+double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b);
+
+// Writes a study's JSON and CSV into dir, and its plot by scripts/plot_study.py (matplotlib).
+void write_study(const std::string& dir, const std::string& name, const nlohmann::json& study, const std::string& csv);
+
+}  // namespace kiln

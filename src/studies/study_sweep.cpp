@@ -1,0 +1,136 @@
+#include "src/studies/study_sweep.h"
+
+#include <cmath>
+#include <cstdio>
+#include <sstream>
+
+#include "integrators/integrator.h"
+#include "src/base/error.h"
+#include "src/scene/scene_yaml.h"
+#include "src/run/stability.h"
+#include "src/studies/study_ranks.h"
+#include "src/studies/study_runs.h"
+
+namespace kiln {
+
+nlohmann::json run_sweep_study(const SweepOptions& o) {
+  const Scene base = load_scene(o.scene, o.sets);
+  if (!(o.dt_min > 0 && o.dt_max > o.dt_min)) throw InputError("need 0 < --dt-min < --dt-max");
+  if (o.points < 2) throw InputError("--points must be at least 2");
+  const double t_end = o.t_end > 0 ? o.t_end : base.t_end;
+  std::vector<std::string> quantities = o.quantities;
+  if (quantities.empty()) {  // defaults: the case's scalars, else the final positions
+    for (const std::string& q : study_quantities(base))
+      if (q != "position" && q != "velocity" && q != "temperature") quantities.push_back(q);
+    if (quantities.empty()) quantities.push_back(base.thermal ? "temperature" : "position");
+  }
+  for (const std::string& q : quantities) check_quantity(base, q);
+
+  // One run per (dt, quantity); field quantities are reported as their difference from the
+  // run at the smallest dt (the sensitivity of the result to the step).
+  std::vector<double> dts;
+  for (int k = 0; k < o.points; ++k) dts.push_back(o.dt_min * std::pow(o.dt_max / o.dt_min, k / (o.points - 1.0)));
+  std::vector<std::vector<StudyRun>> per_quantity;
+  for (const std::string& q : quantities) {
+    std::vector<StudyRun> runs;
+    for (double dt : dts) runs.emplace_back(o.integrator, dt);
+    run_study(o.scene, o.sets, t_end, q, runs, o.threads, o.quiet, o.heat_stage);
+    per_quantity.push_back(runs);
+  }
+
+  // The stability boundary: bisect (in log dt) between the largest stable and the smallest
+  // unstable step of the sweep.
+  const std::vector<StudyRun>& first = per_quantity.front();
+  double stable = 0, unstable = 0;
+  for (const StudyRun& r : first) {
+    if (!r.unstable && r.failure.empty()) stable = std::max(stable, r.dt);
+    if (r.unstable && (unstable == 0 || r.dt < unstable)) unstable = r.dt;
+  }
+  if (stable > 0 && unstable > stable) {
+    for (int k = 0; k < o.bisections; ++k) {
+      std::vector<StudyRun> probe = {StudyRun(o.integrator, std::sqrt(stable * unstable))};
+      run_study(o.scene, o.sets, t_end, quantities.front(), probe, 1, true, o.heat_stage);
+      (probe[0].unstable ? unstable : stable) = probe[0].dt;
+    }
+  }
+  const StabilityEstimate est = estimate_stability(load_scene(o.scene, o.sets));
+
+  nlohmann::json out;
+  out["scene"] = base.name;
+  out["integrator"] = o.integrator;
+  out["t_end"] = t_end;
+  out["ranks"] = rank_count();  // how it ran: the MPI processes (src/studies/study_ranks.h)
+  out["quantities"] = quantities;
+  out["dt"] = dts;
+  out["largest_stable_dt"] = stable > 0 ? nlohmann::json(stable) : nlohmann::json(nullptr);
+  out["smallest_unstable_dt"] = unstable > 0 ? nlohmann::json(unstable) : nlohmann::json(nullptr);
+  out["estimate"] = {{"dt_limit", est.dt_limit},
+                     {"recommended_dt", est.recommended_dt},
+                     {"contact_duration", est.contact_duration}};
+  if (base.thermal) out["estimate"]["thermal_dt_limit"] = est.thermal_dt_limit;
+  // The limit that binds: conduction's alone on a frozen scene, the smaller of the two on a
+  // thermal scene that moves, the contacts' otherwise.
+  // Conduction's limit is 2 / lambda_max times the integrator's reach on the negative real axis / 2
+  // (none for IMEX, whose moving scenes are then bound by their contacts).
+  const double conduction_limit = real_stability_of(o.integrator) / 2 * est.thermal_dt_limit;
+  const bool conduction_binds = base.thermal && (base.frozen || o.heat_stage || conduction_limit < est.dt_limit);
+  const double limit = conduction_binds ? conduction_limit : est.dt_limit;
+  const char* limit_kind = conduction_binds ? "explicit conduction" : "contacts";
+  out["estimate"]["binding_limit"] = limit;
+  std::ostringstream csv, table;
+  csv << "dt,stable";
+  for (const std::string& q : quantities) csv << "," << q;
+  csv << "\n";
+  table << "     dt          stable";
+  for (const std::string& q : quantities) table << "  " << q;
+  table << "\n";
+  nlohmann::json values = nlohmann::json::object();
+  for (size_t qi = 0; qi < quantities.size(); ++qi) {
+    const std::vector<StudyRun>& runs = per_quantity[qi];
+    const bool field = runs.front().value.size() > 1 ||
+                       quantities[qi] == "position" || quantities[qi] == "velocity" || quantities[qi] == "temperature";
+    nlohmann::json column = nlohmann::json::array();
+    for (const StudyRun& r : runs) {
+      if (!r.failure.empty()) {
+        column.push_back(nullptr);
+      } else {
+        column.push_back(field ? max_abs_difference(r.value, runs.front().value) : r.value.front());
+      }
+    }
+    values[quantities[qi]] = column;
+  }
+  out["values"] = values;
+  out["stable"] = nlohmann::json::array();
+  out["failure"] = nlohmann::json::array();  // why a run stopped (an instability check, or an error)
+  for (const StudyRun& r : first) out["failure"].push_back(r.failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(r.failure));
+  for (size_t k = 0; k < dts.size(); ++k) {
+    const bool ok = first[k].failure.empty();
+    out["stable"].push_back(ok);
+    char line[64];
+    std::snprintf(line, sizeof line, "  %12.4e  %-6s", dts[k], ok ? "yes" : first[k].unstable ? "no" : "error");
+    table << line;
+    csv << dts[k] << "," << (ok ? 1 : 0);
+    for (const std::string& q : quantities) {
+      const auto& v = values[q][k];
+      std::snprintf(line, sizeof line, "  %12.5g", v.is_null() ? NAN : v.get<double>());
+      table << line;
+      csv << "," << (v.is_null() ? "" : std::to_string(v.get<double>()));
+    }
+    table << "\n";
+    csv << "\n";
+  }
+  if (!o.quiet) {
+    std::printf("%s with %s to t = %g s (fields: difference from the smallest dt)\n\n%s\n", base.name.c_str(),
+                o.integrator.c_str(), t_end, table.str().c_str());
+    if (stable > 0 && unstable > 0)
+      std::printf("stability boundary between %.5g and %.5g s; the estimate's limit is %.5g s (%s; recommended %.3g s)\n",
+                  stable, unstable, limit, limit_kind, est.recommended_dt);
+    else
+      std::printf("no stability boundary inside the sweep; the estimate's limit is %.5g s (%s)\n", limit, limit_kind);
+  }
+  if (!o.out_dir.empty()) write_study(o.out_dir, "sweep", out, csv.str());
+  require_a_result(first);
+  return out;
+}
+
+}  // namespace kiln

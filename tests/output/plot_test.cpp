@@ -1,0 +1,86 @@
+// kiln plot DIR (scripts/plot_case.py): the case quantities of a run over time in DIR/plots.png,
+// found generically, so a case that reports a new history appears without a change to the script.
+// The script lists its panels' titles in the PNG's text (its Description), which these tests read.
+#include <cairo.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "src/run/simulation.h"
+#include "tests/support.h"
+
+using namespace kiln;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_all(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// `kiln plot DIR`: its exit status and what it printed.
+std::pair<int, std::string> plot(const fs::path& dir) {
+  const fs::path log = dir.string() + ".log";
+  const std::string cmd = std::string(KILN_BINARY) + " plot " + dir.string() + " --quiet > " + log.string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::pair<int, std::string> result = {WIFEXITED(status) ? WEXITSTATUS(status) : -1, read_all(log)};
+  fs::remove(log);
+  return result;
+}
+
+bool is_png(const fs::path& file) {
+  cairo_surface_t* image = cairo_image_surface_create_from_png(file.c_str());
+  const bool ok = cairo_surface_status(image) == CAIRO_STATUS_SUCCESS && cairo_image_surface_get_width(image) > 100;
+  cairo_surface_destroy(image);
+  return ok;
+}
+
+}  // namespace
+
+TEST_CASE("kiln plot draws a drum run's mixing, temperatures, wall loads and energy ledger into plots.png",
+          "[plot]") {
+  const fs::path dir = testing::fresh_dir("plot_drum");
+  run_scene(load_scene(testing::case_path("t6_drum.yaml"), {"t_end=0.03"}), {dir.string(), true});
+  const auto [status, output] = plot(dir);
+  INFO(output);
+  REQUIRE(status == 0);
+  REQUIRE(is_png(dir / "plots.png"));
+  CHECK_FALSE(fs::exists(dir / "plots.png.tmp"));
+  const std::string png = read_all(dir / "plots.png");
+  for (const char* panel : {"mixing_history: lacey_index", "mixing_history: temperature_std",
+                            "energy.history: balance_error", "temperatures (result.h5)",
+                            "wall_torque per frame (result.h5)", "wall_power per frame (result.h5)", "energy ledger"})
+    CHECK_THAT(png, Catch::Contains(panel));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a history that a new case writes into summary.json appears in kiln plot without a change to it",
+          "[plot]") {
+  const fs::path dir = testing::fresh_dir("plot_new_history");
+  fs::create_directories(dir);
+  std::ofstream(dir / "summary.json") << R"({"scene": "silo", "integrator": "velocity-verlet", "t_end": 2,
+    "discharge_history": {"time": [0, 1, 2], "mass_discharged": [0, 0.1, null]},
+    "velocity_profile": {"y": [0, 0.01, 0.02], "vx": [0, 0.3, 0.5]}})";
+  const auto [status, output] = plot(dir);
+  INFO(output);
+  REQUIRE(status == 0);
+  const std::string png = read_all(dir / "plots.png");
+  CHECK_THAT(png, Catch::Contains("discharge_history: mass_discharged"));
+  CHECK_THAT(png, Catch::Contains("velocity_profile: vx"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("kiln plot on a directory without summary.json fails naming it and writes nothing", "[plot]") {
+  const fs::path dir = testing::fresh_dir("plot_empty");
+  fs::create_directories(dir);
+  const auto [status, output] = plot(dir);
+  CHECK(status == 2);
+  CHECK_THAT(output, Catch::Contains((dir / "summary.json").string() + " not found"));
+  CHECK(fs::is_empty(dir));
+  fs::remove_all(dir);
+}

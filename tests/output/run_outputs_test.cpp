@@ -1,0 +1,665 @@
+// What a run leaves behind and how it fails: outputs, determinism, instability messages, and a
+// scene that models only what it needs.
+#include <cairo.h>
+#include <catch2/catch.hpp>
+#include <hdf5.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "src/dem/dem_system.h"
+#include "src/base/error.h"
+#include "src/output/output_h5.h"
+#include "src/output/outputs.h"
+#include "src/scene/overrides.h"
+#include "src/scene/scene_yaml.h"
+#include "src/run/simulation.h"
+#include "src/base/snapshot.h"
+#include "src/run/stability.h"
+#include "tests/support.h"
+
+using namespace kiln;
+namespace fs = std::filesystem;
+
+namespace {
+
+// The dimensions of a dataset of an HDF5 file (empty when it is not there).
+std::vector<hsize_t> dims_of(const fs::path& file, const std::string& name) {
+  std::vector<hsize_t> dims;
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return dims;
+  if (H5Lexists(f, name.c_str(), H5P_DEFAULT) > 0) {
+    const hid_t ds = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+    const hid_t space = H5Dget_space(ds);
+    dims.resize(H5Sget_simple_extent_ndims(space));
+    H5Sget_simple_extent_dims(space, dims.data(), nullptr);
+    H5Sclose(space);
+    H5Dclose(ds);
+  }
+  H5Fclose(f);
+  return dims;
+}
+
+// A text attribute of an object (a dataset, or "/" for the file), "" when absent.
+std::string text_attribute(const fs::path& file, const std::string& object, const char* name) {
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return "";
+  std::string value;
+  const hid_t o = H5Oopen(f, object.c_str(), H5P_DEFAULT);
+  if (o >= 0 && H5Aexists(o, name) > 0) {
+    const hid_t attr = H5Aopen(o, name, H5P_DEFAULT);
+    const hid_t type = H5Aget_type(attr);
+    if (H5Tget_class(type) == H5T_STRING && !H5Tis_variable_str(type)) {
+      value.assign(H5Tget_size(type), '\0');
+      H5Aread(attr, type, value.data());
+      value = value.substr(0, value.find('\0'));
+    }
+    H5Tclose(type);
+    H5Aclose(attr);
+  }
+  if (o >= 0) H5Oclose(o);
+  H5Fclose(f);
+  return value;
+}
+
+// Every dataset of a file, found by visiting its links (not from a list of expected names).
+std::vector<std::string> datasets_of(const fs::path& file) {
+  std::vector<std::string> names;
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return names;
+  auto visit = [](hid_t group, const char* name, const H5L_info_t*, void* data) -> herr_t {
+    const hid_t o = H5Oopen(group, name, H5P_DEFAULT);
+    if (o >= 0 && H5Iget_type(o) == H5I_DATASET) static_cast<std::vector<std::string>*>(data)->push_back(name);
+    if (o >= 0) H5Oclose(o);
+    return 0;
+  };
+  H5Lvisit(f, H5_INDEX_NAME, H5_ITER_INC, visit, &names);
+  H5Fclose(f);
+  return names;
+}
+
+// The file attribute wall_names (an array of variable-length strings).
+std::vector<std::string> wall_names_of(const fs::path& file) {
+  std::vector<std::string> names;
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return names;
+  if (H5Aexists(f, "wall_names") > 0) {
+    const hid_t attr = H5Aopen(f, "wall_names", H5P_DEFAULT);
+    const hid_t space = H5Aget_space(attr);
+    std::vector<char*> text(H5Sget_simple_extent_npoints(space));
+    const hid_t type = H5Tcopy(H5T_C_S1);
+    H5Tset_size(type, H5T_VARIABLE);
+    H5Tset_cset(type, H5T_CSET_UTF8);
+    if (H5Aread(attr, type, text.data()) >= 0) {
+      for (char* t : text) names.push_back(t ? t : "");
+      H5Dvlen_reclaim(type, space, H5P_DEFAULT, text.data());
+    }
+    H5Tclose(type);
+    H5Sclose(space);
+    H5Aclose(attr);
+  }
+  H5Fclose(f);
+  return names;
+}
+
+std::vector<int> read_ints(const fs::path& file, const char* name) {
+  std::vector<int> data;
+  const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return data;
+  const hid_t ds = H5Dopen2(f, name, H5P_DEFAULT);
+  const hid_t space = H5Dget_space(ds);
+  data.resize(H5Sget_simple_extent_npoints(space));
+  H5Dread(ds, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, data.data());
+  H5Sclose(space);
+  H5Dclose(ds);
+  H5Fclose(f);
+  return data;
+}
+
+// One disc at rest without gravity in a box of a floor and a ceiling, and a vertical wall
+// (the pusher) from (0.02, 0.02) to (0.02, 0.08) that, with `moving`, translates at 0.6 m/s along x.
+const double pusher_speed = 0.6;
+std::string pusher_scene(bool moving) {
+  return std::string(R"(name: pusher
+gravity: [0, 0]
+materials:
+  copper: {density: 8900, stiffness: 6000, restitution: 0.8}
+particles:
+  - material: copper
+    radius: 0.002
+    at: [[0.05, 0.095]]
+walls:
+  - {name: floor, material: copper, segment: [[0, 0], [0.1, 0]]}
+  - {name: ceiling, material: copper, segment: [[0, 0.1], [0.1, 0.1]]}
+  - name: pusher
+    material: copper
+    segment: [[0.02, 0.02], [0.02, 0.08]]
+)") + (moving ? "    motion: {type: translate, velocity: [0.6, 0]}\n" : "") +
+         "dt: 1.0e-5\nt_end: 0.1\noutput_interval: 0.01\n";
+}
+
+// Runs the pusher scene into dir, recording its source (so that it can be resumed).
+nlohmann::json run_pusher(const fs::path& dir, bool moving, const std::vector<std::string>& sets = {}) {
+  const std::string text = pusher_scene(moving);
+  RunOptions o;
+  o.out_dir = dir.string();
+  o.quiet = true;
+  o.source = {"pusher.yaml", text, sets};
+  return run_scene(parse_scene(text, "pusher.yaml", sets), o);
+}
+
+// The datasets of a result that are not frames: written once.
+bool constant_dataset(const fs::path& file, const std::string& name) {
+  return name == "radius" || name == "id" || name == "wall_of_segment" || name == "wall_connectivity" ||
+         (name == "wall_segments" && dims_of(file, name).size() == 2);
+}
+
+}  // namespace
+
+TEST_CASE("kiln run writes result.h5, result.xdmf, summary.json and picture.png, nothing temporary", "[outputs]") {
+  const fs::path dir = testing::fresh_dir("outputs");
+  const std::string cmd = std::string(KILN_BINARY) + " run " + testing::case_path("t1_free_fall.yaml") +
+                          " --t-end 0.01 --quiet --out " + dir.string();
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  for (const char* name : {"result.h5", "result.xdmf", "summary.json", "picture.png"}) CHECK(fs::exists(dir / name));
+  for (const auto& entry : fs::directory_iterator(dir)) CHECK(entry.path().extension() != ".tmp");
+  std::ifstream in(dir / "summary.json");
+  const auto s = nlohmann::json::parse(in);
+  for (const char* key : {"scene", "integrator", "dt", "t_end", "steps", "rhs_evals", "wall_seconds", "particles",
+                          "mean_contacts"})
+    CHECK(s.contains(key));
+  for (const char* key : {"kinetic", "potential", "elastic", "dissipated_damping", "dissipated_friction",
+                          "work_by_walls", "balance_error"})
+    CHECK(s["energy"].contains(key));
+  // 0.01 s at 1e-3 s per frame: the initial state, ten frames, the final state included.
+  const auto time = testing::read_dataset(dir / "result.h5", "time");
+  REQUIRE(time.size() == 11);
+  CHECK(time.front() == 0.0);
+  CHECK(time.back() == Approx(0.01));
+  CHECK(testing::read_dataset(dir / "result.h5", "position").size() == 11 * 3);
+  CHECK(testing::read_dataset(dir / "result.h5", "radius") == std::vector<double>{0.002});
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a bad --set on the command line fails with exit code 2 and writes nothing", "[outputs]") {
+  const fs::path dir = testing::fresh_dir("bad");
+  const std::string cmd = std::string(KILN_BINARY) + " run " + testing::case_path("t1_free_fall.yaml") +
+                          " --set materials.copper.density=-1 --quiet --out " + dir.string() + " 2>/dev/null";
+  CHECK(WEXITSTATUS(std::system(cmd.c_str())) == 2);
+  CHECK_FALSE(fs::exists(dir));
+}
+
+TEST_CASE("the same scene and options give bit-identical result.h5 data", "[outputs]") {
+  const Scene scene = load_scene(testing::case_path("t3_heap.yaml"), {"particles.0.fill.count=100", "t_end=0.05"});
+  std::vector<std::vector<double>> runs;
+  for (int k = 0; k < 2; ++k) {
+    const fs::path dir = testing::fresh_dir("determinism" + std::to_string(k));
+    run_scene(scene, {dir.string(), true});
+    std::vector<double> all;
+    for (const char* name : {"time", "position", "velocity", "angle", "angular_velocity"}) {
+      const auto d = testing::read_dataset(dir / "result.h5", name);
+      all.insert(all.end(), d.begin(), d.end());
+    }
+    runs.push_back(all);
+    fs::remove_all(dir);
+  }
+  REQUIRE(runs[0].size() > 1000);
+  CHECK(std::memcmp(runs[0].data(), runs[1].data(), runs[0].size() * sizeof(double)) == 0);
+}
+
+TEST_CASE("a step beyond the stability limit stops with the failed check, the time and the advised dt", "[stability]") {
+  const Scene scene = load_scene(testing::case_path("t1_free_fall.yaml"), {"dt=5e-4", "t_end=0.2"});
+  const StabilityEstimate est = estimate_stability(scene);
+  CHECK(judge_dt(est, scene.dt, scene).unstable);  // kiln check and kiln run refuse it up front
+  const fs::path dir = testing::fresh_dir("unstable");
+  try {
+    run_scene(scene, {dir.string(), true});
+    FAIL("the run did not stop");
+  } catch (const InstabilityError& e) {
+    const std::string msg = e.what();
+    CHECK(msg.find("unstable run at t = ") != std::string::npos);
+    CHECK((msg.find("overlap") != std::string::npos || msg.find("energy blow-up") != std::string::npos ||
+           msg.find("NaN") != std::string::npos));
+    CHECK(msg.find("recommends dt <= 1.4") != std::string::npos);  // t_c / 50 = 1.40e-5 s
+  }
+  // Nothing half-written is left behind.
+  for (const auto& entry : fs::directory_iterator(dir)) CHECK(entry.path().extension() != ".tmp");
+  CHECK_FALSE(fs::exists(dir / "result.h5"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("stability estimate: linear contact duration and the central-difference limit", "[stability]") {
+  const Scene scene = load_scene(testing::case_path("t1_free_fall.yaml"));
+  const StabilityEstimate est = estimate_stability(scene);
+  const double m = 4.0 / 3.0 * M_PI * 8e-9 * 8900;
+  CHECK(est.contact_duration == Approx(M_PI * std::sqrt(m / 6000)));
+  CHECK(est.dt_limit == Approx(2 * std::sqrt(m / 6000)));
+  CHECK(est.recommended_dt == Approx(est.contact_duration / 50));
+  CHECK(judge_dt(est, 1e-6, scene).warnings.empty());
+  CHECK_FALSE(judge_dt(est, 1e-4, scene).unstable);
+  CHECK(judge_dt(est, 1e-4, scene).warnings.size() == 1);  // 7 steps per contact: warned, not refused
+}
+
+TEST_CASE("a frictionless scene integrates no rotation, while friction adds angles and spins", "[state]") {
+  const Scene plain = load_scene(testing::case_path("t1_free_fall.yaml"));
+  DemSystem without(plain);
+  CHECK_FALSE(without.rotates());
+  CHECK(without.layout().nq == 2 * plain.n_particles());
+  const Scene rough = load_scene(testing::case_path("c1_incline_roll_slide.yaml"));
+  DemSystem with(rough);
+  CHECK(with.rotates());
+  CHECK(with.layout().nq == 3 * rough.n_particles());
+}
+
+TEST_CASE("result.h5 writes position, velocity and wall forces as three-component vectors with z = 0", "[outputs]") {
+  const fs::path dir = testing::fresh_dir("vectors");
+  run_scene(load_scene(testing::case_path("t1_free_fall.yaml"), {"t_end=0.05"}), {dir.string(), true});
+  const fs::path h5 = dir / "result.h5";
+  const hsize_t frames = dims_of(h5, "time").at(0);
+  REQUIRE(frames == 51);
+  for (const char* name : {"position", "velocity", "wall_force"}) {
+    INFO(name);
+    CHECK(dims_of(h5, name) == std::vector<hsize_t>{frames, 1, 3});  // one disc, one wall (the box)
+    const auto v = testing::read_dataset(h5, name);
+    REQUIRE(v.size() == 3 * frames);
+    for (size_t k = 2; k < v.size(); k += 3) CHECK(v[k] == 0.0);
+  }
+  // x and y are the disc's: released at rest at (0.025, 0.03), in free fall for 0.05 s.
+  const auto p = testing::read_dataset(h5, "position"), v = testing::read_dataset(h5, "velocity");
+  CHECK(p[0] == 0.025);
+  CHECK(p[1] == 0.03);
+  CHECK(p[3 * (frames - 1)] == Approx(0.025));
+  CHECK(p[3 * (frames - 1) + 1] == Approx(0.03 - 0.5 * 9.81 * 0.05 * 0.05).epsilon(1e-4));
+  CHECK(v[3 * (frames - 1) + 1] == Approx(-9.81 * 0.05).epsilon(1e-4));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("every dataset of a thermal run's result.h5 carries its units", "[outputs]") {
+  // L2: a thermal scene with moving walls, so that every kind of dataset is written.
+  const fs::path dir = testing::fresh_dir("units");
+  run_scene(load_scene(testing::case_path("l2_aligned_wall_heating.yaml"), {"t_end=0.01"}), {dir.string(), true});
+  const fs::path h5 = dir / "result.h5";
+  const std::map<std::string, std::string> expected = {
+      {"time", "s"},           {"position", "m"},       {"velocity", "m/s"},     {"angle", "rad"},
+      {"angular_velocity", "rad/s"}, {"temperature", "degC"}, {"radius", "m"},   {"id", "1"},
+      {"wall_segments", "m"},  {"wall_of_segment", "1"}, {"wall_connectivity", "1"}, {"wall_force", "N"},
+      {"wall_torque", "N m"},  {"wall_power", "W"}};
+  const std::vector<std::string> names = datasets_of(h5);
+  for (const auto& [name, units] : expected) {
+    INFO(name);
+    CHECK(std::find(names.begin(), names.end(), name) != names.end());
+  }
+  for (const std::string& name : names) {
+    INFO(name);
+    const std::string units = text_attribute(h5, name, "units");
+    CHECK_FALSE(units.empty());
+    if (expected.count(name)) CHECK(units == expected.at(name));
+  }
+  fs::remove_all(dir);
+}
+
+TEST_CASE("wall_segments follow a translating wall frame by frame, with the walls' names and loads", "[outputs]") {
+  const fs::path dir = testing::fresh_dir("moving_walls");
+  run_pusher(dir, true);
+  const fs::path h5 = dir / "result.h5";
+  const Scene scene = parse_scene(pusher_scene(true), "pusher.yaml");
+  const std::vector<double> time = testing::read_dataset(h5, "time");
+  const hsize_t frames = time.size(), segments = scene.segments.size(), walls = scene.walls.size();
+  REQUIRE(frames == 11);
+  REQUIRE(segments == 3);
+  REQUIRE(dims_of(h5, "wall_segments") == std::vector<hsize_t>{frames, segments, 4});
+  CHECK(text_attribute(h5, "wall_segments", "units") == "m");
+  CHECK(wall_names_of(h5) == std::vector<std::string>{"floor", "ceiling", "pusher"});
+  const std::vector<int> wall_of = read_ints(h5, "wall_of_segment");
+  REQUIRE(wall_of.size() == segments);
+  const std::vector<double> seg = testing::read_dataset(h5, "wall_segments");
+  for (hsize_t k = 0; k < frames; ++k)
+    for (hsize_t s = 0; s < segments; ++s) {
+      INFO("frame " << k << " (t = " << time[k] << "), segment " << s);
+      const Segment& g = scene.segments[s];
+      CHECK(wall_of[s] == g.wall);
+      // The pusher's ends at a0 + v t, the others where they started.
+      const double dx = scene.walls[g.wall].name == "pusher" ? pusher_speed * time[k] : 0.0;
+      const double* row = &seg[4 * (k * segments + s)];
+      CHECK(row[0] == Approx(g.a.x + dx).margin(1e-12));
+      CHECK(row[1] == Approx(g.a.y).margin(1e-12));
+      CHECK(row[2] == Approx(g.b.x + dx).margin(1e-12));
+      CHECK(row[3] == Approx(g.b.y).margin(1e-12));
+    }
+  CHECK(seg[4 * ((frames - 1) * segments + 2)] == Approx(0.08));  // 0.02 + 0.6 m/s x 0.1 s
+  // The loads: one row per frame and wall, in newtons, newton metres and watts.
+  CHECK(dims_of(h5, "wall_force") == std::vector<hsize_t>{frames, walls, 3});
+  CHECK(dims_of(h5, "wall_torque") == std::vector<hsize_t>{frames, walls});
+  CHECK(dims_of(h5, "wall_power") == std::vector<hsize_t>{frames, walls});
+  CHECK(text_attribute(h5, "wall_force", "units") == "N");
+  CHECK(text_attribute(h5, "wall_torque", "units") == "N m");
+  CHECK(text_attribute(h5, "wall_power", "units") == "W");
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a scene whose walls do not move writes wall_segments once", "[outputs]") {
+  const fs::path dir = testing::fresh_dir("fixed_walls");
+  run_pusher(dir, false);
+  const fs::path h5 = dir / "result.h5";
+  const Scene scene = parse_scene(pusher_scene(false), "pusher.yaml");
+  const hsize_t frames = dims_of(h5, "time").at(0);
+  REQUIRE(frames == 11);
+  CHECK(dims_of(h5, "wall_segments") == std::vector<hsize_t>{3, 4});
+  CHECK(text_attribute(h5, "wall_segments", "units") == "m");
+  const std::vector<double> seg = testing::read_dataset(h5, "wall_segments");
+  REQUIRE(seg.size() == 12);
+  for (size_t s = 0; s < 3; ++s) {
+    const Segment& g = scene.segments[s];
+    CHECK(std::vector<double>(seg.begin() + 4 * s, seg.begin() + 4 * s + 4) ==
+          std::vector<double>{g.a.x, g.a.y, g.b.x, g.b.y});
+  }
+  CHECK(read_ints(h5, "wall_of_segment") == std::vector<int>{0, 1, 2});
+  CHECK(wall_names_of(h5) == std::vector<std::string>{"floor", "ceiling", "pusher"});
+  CHECK(dims_of(h5, "wall_force") == std::vector<hsize_t>{frames, 3, 3});  // loads are frames all the same
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a resumed run cuts and extends every dataset of frames alike", "[outputs][checkpoint]") {
+  const fs::path dir = testing::fresh_dir("resumed_walls"), whole = testing::fresh_dir("resumed_walls_whole");
+  // Ending off the frame grid, the run's last frame (t = 0.055) follows its last checkpoint: the
+  // resumed run drops it from every dataset of frames and goes on from t = 0.05.
+  run_pusher(dir, true, {"t_end=0.055"});
+  REQUIRE(dims_of(dir / "result.h5", "time").at(0) == 7);
+  const Snapshot checkpoint = Snapshot::read((dir / "checkpoint.h5").string());
+  REQUIRE(checkpoint.integer("frames") == 6);
+  RunOptions o;
+  o.out_dir = dir.string();
+  o.quiet = true;
+  o.resume = &checkpoint;
+  run_scene(scene_of_checkpoint(checkpoint, {assignment("t_end", 0.1)}, o.source), o);
+  run_pusher(whole, true);
+  const fs::path h5 = dir / "result.h5";
+  const hsize_t frames = dims_of(h5, "time").at(0);
+  CHECK(frames == 11);
+  std::vector<std::string> of_frames;
+  for (const std::string& name : datasets_of(h5))
+    if (!constant_dataset(h5, name)) {
+      INFO(name);
+      of_frames.push_back(name);
+      CHECK(dims_of(h5, name).at(0) == frames);
+      CHECK(dims_of(h5, name) == dims_of(whole / "result.h5", name));
+      CHECK(testing::read_dataset(h5, name.c_str()) == testing::read_dataset(whole / "result.h5", name.c_str()));
+    }
+  for (const char* name : {"time", "position", "velocity", "wall_segments", "wall_force", "wall_torque", "wall_power"})
+    CHECK(std::find(of_frames.begin(), of_frames.end(), name) != of_frames.end());
+  fs::remove_all(dir);
+  fs::remove_all(whole);
+}
+
+TEST_CASE("reopening result.h5 to resume cuts every dataset of frames to the checkpoint's frames", "[outputs]") {
+  const fs::path dir = testing::fresh_dir("reopen");
+  fs::create_directories(dir);
+  const fs::path file = dir / "result.h5";
+  ResultLayout layout;
+  layout.particles = 2;
+  layout.thermal = true;
+  layout.walls = 2;
+  layout.segments = 3;
+  layout.walls_move = true;
+  const std::vector<double> two(2, 1.0), six(6, 1.0), twelve(12, 1.0);
+  H5Frame f;
+  f.x = f.y = f.vx = f.vy = f.temperature = two.data();
+  f.segments = twelve.data();
+  f.wall_force = twelve.data();
+  f.wall_torque = f.wall_power = two.data();
+  {
+    H5Frames h5(file.string(), layout);
+    h5.write_constant({0.1, 0.2});
+    h5.write_walls({0, 0, 1}, {"left", "right"}, nullptr);
+    for (int k = 0; k < 5; ++k) {
+      f.t = k;
+      h5.append(f);
+    }
+    h5.close();
+  }
+  const std::vector<std::string> names = datasets_of(file);
+  CHECK(names.size() == 14);  // 10 of frames, radius, id, wall_of_segment, wall_connectivity
+  {
+    H5Frames h5(file.string(), layout, 3);
+    CHECK(h5.times() == std::vector<double>{0, 1, 2});
+    h5.close();
+  }
+  int of_frames = 0;
+  for (const std::string& name : names)
+    if (!constant_dataset(file, name)) {
+      INFO(name);
+      ++of_frames;
+      CHECK(dims_of(file, name).at(0) == 3);
+    }
+  CHECK(of_frames == 10);
+  // A result without the datasets this run writes (an older kiln's, another scene's) is refused.
+  layout.walls = 3;
+  CHECK_THROWS_AS(H5Frames(file.string(), layout, 3), InputError);
+  fs::remove_all(dir);
+}
+
+namespace {
+
+// What result.xdmf describes, as python3's XML parser reads it: one line per frame (its time),
+// grid (name, topology, elements, nodes per element, geometry type), geometry (its grid and
+// dimensions) and data item (a whole HDF dataset: hdf|file:/name|dims; a frame of one:
+// slab|dims|start|stride|count|file:/name|dataset dims).
+const char* xdmf_reader = R"(import sys, xml.etree.ElementTree as ET
+root = ET.parse(sys.argv[1]).getroot()
+assert root.tag == 'Xdmf'
+series = root.find('Domain').findall('Grid')
+assert len(series) == 1 and series[0].get('CollectionType') == 'Temporal'
+def items(node):
+    for d in node.findall('DataItem'):
+        if d.get('ItemType') == 'HyperSlab':
+            sel, ref = d.findall('DataItem')
+            v = sel.text.split()
+            r = len(v) // 3
+            assert sel.get('Dimensions') == '3 %d' % r and len(v) == 3 * r
+            print('slab|%s|%s|%s|%s|%s|%s' % (d.get('Dimensions'), ' '.join(v[:r]), ' '.join(v[r:2 * r]),
+                                              ' '.join(v[2 * r:]), ref.text.strip(), ref.get('Dimensions')))
+        else:
+            assert d.get('Format') == 'HDF'
+            print('hdf|%s|%s' % (d.text.strip(), d.get('Dimensions')))
+for frame in series[0].findall('Grid'):
+    assert frame.get('CollectionType') == 'Spatial'
+    print('time|' + frame.find('Time').get('Value'))
+    for grid in frame.findall('Grid'):
+        top, geo = grid.find('Topology'), grid.find('Geometry')
+        print('grid|%s|%s|%s|%s|%s' % (grid.get('Name'), top.get('TopologyType'), top.get('NumberOfElements'),
+                                       top.get('NodesPerElement'), geo.get('GeometryType')))
+        print('geometry|%s|%s' % (grid.get('Name'), geo.find('DataItem').get('Dimensions')))
+        items(top)
+        items(geo)
+        for a in grid.findall('Attribute'):
+            items(a)
+)";
+
+std::vector<std::string> split(const std::string& text, char by) {
+  std::vector<std::string> parts;
+  std::stringstream in(text);
+  for (std::string part; std::getline(in, part, by);) parts.push_back(part);
+  return parts;
+}
+
+std::vector<hsize_t> numbers(const std::string& text) {
+  std::vector<hsize_t> v;
+  std::istringstream in(text);
+  for (hsize_t x; in >> x;) v.push_back(x);
+  return v;
+}
+
+hsize_t product(const std::vector<hsize_t>& v) {
+  hsize_t p = 1;
+  for (hsize_t x : v) p *= x;
+  return p;
+}
+
+// Checks that dir/result.xdmf parses and that everything it refers to is in dir/result.h5 with
+// the dimensions it states; returns the number of frames with a walls grid.
+int check_xdmf(const fs::path& dir) {
+  const fs::path script = dir / "read_xdmf.py", listing = dir / "xdmf.txt", h5 = dir / "result.h5";
+  std::ofstream(script) << xdmf_reader;
+  const std::string cmd = "python3 " + script.string() + " " + (dir / "result.xdmf").string() + " > " + listing.string();
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  std::ifstream in(listing);
+  const std::vector<double> time = testing::read_dataset(h5, "time");
+  const hsize_t frames = time.size();
+  size_t frame = 0;
+  int walls = 0, particles = 0;
+  hsize_t points = 0, per_point = 0;  // of the latest grid
+  for (std::string line; std::getline(in, line);) {
+    INFO(line);
+    const std::vector<std::string> f = split(line, '|');
+    REQUIRE(!f.empty());
+    if (f[0] == "time") {
+      REQUIRE(frame < frames);
+      CHECK(std::stod(f[1]) == time[frame++]);
+    } else if (f[0] == "grid") {
+      REQUIRE(f.size() == 6);
+      const hsize_t elements = std::stoull(f[3]);
+      if (f[1] == "particles") {
+        ++particles;
+        CHECK(f[2] == "Polyvertex");
+        CHECK(elements == dims_of(h5, "radius").at(0));
+        points = elements;
+      } else {
+        ++walls;
+        CHECK(f[1] == "walls");
+        CHECK(f[2] == "Polyline");
+        CHECK(f[4] == "2");
+        CHECK(elements == dims_of(h5, "wall_of_segment").at(0));
+        points = 2 * elements;
+      }
+      per_point = f[5] == "XYZ" ? 3 : f[5] == "XY" ? 2 : 0;
+      CHECK(per_point > 0);
+    } else if (f[0] == "geometry") {
+      CHECK(product(numbers(f[2])) == points * per_point);
+    } else if (f[0] == "hdf") {
+      REQUIRE(f.size() == 3);
+      REQUIRE(f[1].rfind("result.h5:/", 0) == 0);
+      CHECK(dims_of(h5, f[1].substr(11)) == numbers(f[2]));
+    } else {
+      REQUIRE(f[0] == "slab");
+      REQUIRE(f.size() == 7);
+      REQUIRE(f[5].rfind("result.h5:/", 0) == 0);
+      const std::vector<hsize_t> dims = dims_of(h5, f[5].substr(11));
+      CHECK(dims == numbers(f[6]));
+      CHECK(dims.at(0) == frames);
+      const auto start = numbers(f[2]), stride = numbers(f[3]), count = numbers(f[4]);
+      REQUIRE(start.size() == dims.size());
+      REQUIRE(stride.size() == dims.size());
+      REQUIRE(count.size() == dims.size());
+      CHECK(start[0] == frame - 1);  // the frame of the grid it belongs to
+      CHECK(count[0] == 1);
+      for (size_t k = 0; k < dims.size(); ++k) {
+        CHECK(stride[k] == 1);
+        CHECK(start[k] + count[k] <= dims[k]);
+      }
+      CHECK(product(count) == product(numbers(f[1])));
+    }
+  }
+  CHECK(frame == frames);
+  CHECK(particles == static_cast<int>(frames));
+  return walls;
+}
+
+}  // namespace
+
+TEST_CASE("result.xdmf parses and refers to datasets of result.h5 with their dimensions", "[outputs]") {
+  SECTION("a translating wall: the walls grid reads a frame of wall_segments") {
+    const fs::path dir = testing::fresh_dir("xdmf_moving");
+    run_pusher(dir, true);
+    CHECK(check_xdmf(dir) == 11);
+    std::ifstream in(dir / "result.xdmf");
+    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    CHECK(text.find("10 0 0 1 1 1 1 3 4") != std::string::npos);  // the last frame's slab of (11 x 3 x 4)
+    fs::remove_all(dir);
+  }
+  SECTION("fixed walls: the walls grid reads the constant wall_segments") {
+    const fs::path dir = testing::fresh_dir("xdmf_fixed");
+    run_pusher(dir, false);
+    CHECK(check_xdmf(dir) == 11);
+    fs::remove_all(dir);
+  }
+  SECTION("a thermal scene") {
+    const fs::path dir = testing::fresh_dir("xdmf_thermal");
+    run_scene(load_scene(testing::case_path("t4_two_particle_conduction.yaml"), {"t_end=0.01"}), {dir.string(), true});
+    check_xdmf(dir);
+    std::ifstream in(dir / "result.xdmf");
+    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    CHECK(text.find("result.h5:/temperature") != std::string::npos);
+    fs::remove_all(dir);
+  }
+}
+
+TEST_CASE("picture.png draws a translating wall where it is at the end of the run, not where it started",
+          "[outputs]") {
+  const fs::path dir = testing::fresh_dir("picture_walls");
+  run_pusher(dir, true);
+  // The pusher starts at x = 0.02 and ends at x = 0.08; the disc stays at rest at (0.05, 0.095).
+  PictureInput drawn;
+  drawn.centre = {{0.05, 0.095}};
+  drawn.radius = {0.002};
+  drawn.wall_a = {{0, 0}, {0, 0.1}, {0.08, 0.02}};
+  drawn.wall_b = {{0.1, 0}, {0.1, 0.1}, {0.08, 0.08}};
+  const PictureView view = picture_view(drawn);
+  cairo_surface_t* png = cairo_image_surface_create_from_png((dir / "picture.png").c_str());
+  REQUIRE(cairo_surface_status(png) == CAIRO_STATUS_SUCCESS);
+  CHECK(cairo_image_surface_get_width(png) == view.width());
+  CHECK(cairo_image_surface_get_height(png) == view.height());
+  const unsigned char* data = cairo_image_surface_get_data(png);
+  const int stride = cairo_image_surface_get_stride(png);
+  // The darkest green value of the pixels around a point (0 black, 255 white).
+  auto darkest = [&](Vec2 world) {
+    const Vec2 p = view.pixel(world);
+    int least = 255;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        const int px = static_cast<int>(p.x) + dx, py = static_cast<int>(p.y) + dy;
+        const uint32_t pixel = *reinterpret_cast<const uint32_t*>(data + py * stride + 4 * px);
+        least = std::min<int>(least, (pixel >> 8) & 0xff);
+      }
+    return least;
+  };
+  CHECK(darkest({0.08, 0.05}) < 64);    // the pusher at t = 0.1
+  CHECK(darkest({0.02, 0.05}) == 255);  // nothing where it was at t = 0
+  CHECK(darkest({0.05, 0.0}) < 64);     // the floor
+  cairo_surface_destroy(png);
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a wall driven along a periodic axis is written and drawn in the cell, however far it has travelled",
+          "[outputs][periodic]") {
+  const fs::path dir = testing::fresh_dir("driven_periodic");
+  // A lid driven at 1 m/s across a 20 mm cell for 0.1 s travels five periods.
+  const std::string scene = R"(name: driven
+materials:
+  glass: {density: 2500, stiffness: 5.0e4, restitution: 0.3}
+particles:
+  - {material: glass, radius: 0.001, at: [[0.005, 0.001], [0.015, 0.001]]}
+walls:
+  - {name: floor, material: glass, segment: [[0, 0], [0.02, 0]]}
+  - {name: lid, material: glass, segment: [[0.0, 0.01], [0.02, 0.01]], motion: {type: translate, velocity: [1.0, 0]}}
+periodic: {x: [0, 0.02]}
+gravity: [0, 0]
+dt: 1.0e-5
+t_end: 0.1
+output_interval: 0.01
+)";
+  run_scene(parse_scene(scene, "driven.yaml"), {dir.string(), true});
+  const std::vector<double> segments = testing::read_dataset(dir / "result.h5", "wall_segments");
+  REQUIRE(segments.size() == 11 * 2 * 4);
+  for (size_t k = 0; k < segments.size(); k += 4) {
+    const double middle = 0.5 * (segments[k] + segments[k + 2]);
+    CHECK(middle >= -1e-15);  // round-off of the shift
+    CHECK(middle < 0.02 + 1e-15);
+  }
+  fs::remove_all(dir);
+}

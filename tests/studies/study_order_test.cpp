@@ -1,0 +1,211 @@
+// `kiln order`: it recovers known orders, Richardson agrees with the analytic reference, and the
+// results do not depend on the number of threads.
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+
+#include "src/base/error.h"
+#include "src/scene/overrides.h"
+#include "src/scene/scene_yaml.h"
+#include "src/run/simulation.h"
+#include "src/studies/study_order.h"
+#include "src/studies/study_sweep.h"
+#include "src/studies/study_wp.h"
+#include "tests/support.h"
+
+using namespace kiln;
+
+namespace {
+
+OrderOptions harmonic(const std::string& integrator, double dt, int levels) {
+  OrderOptions o;
+  o.scene = testing::case_path("harmonic_contact_pair.yaml");
+  o.integrators = {integrator};
+  o.dt = dt;
+  o.levels = levels;
+  o.quiet = true;
+  return o;
+}
+
+double fitted(const nlohmann::json& study) { return study["integrators"][0]["fitted_order"].get<double>(); }
+
+}  // namespace
+
+TEST_CASE("kiln order recovers velocity Verlet 2, Heun 2, Zonneveld 4 and Dormand-Prince 5 on the harmonic contact",
+          "[study]") {
+  // Coarsest steps in each scheme's asymptotic range (the period is 1.4 ms).
+  CHECK(fitted(run_order_study(harmonic("velocity-verlet", 1e-4, 4))) == Approx(2).margin(0.15));
+  CHECK(fitted(run_order_study(harmonic("erk2", 2.5e-5, 4))) == Approx(2).margin(0.15));
+  CHECK(fitted(run_order_study(harmonic("erk4", 5e-5, 4))) == Approx(4).margin(0.15));
+  const auto dp = run_order_study(harmonic("erk5", 1e-4, 4));
+  CHECK(fitted(dp) == Approx(5).margin(0.25));
+  CHECK(dp["integrators"][0]["verdict"] == "matches");
+}
+
+TEST_CASE("Richardson's estimate agrees with the analytic reference's order", "[study]") {
+  OrderOptions o = harmonic("velocity-verlet", 1e-4, 5);
+  const double analytic = fitted(run_order_study(o));
+  o.reference = "richardson";
+  const double richardson = fitted(run_order_study(o));
+  CHECK(richardson == Approx(analytic).margin(0.15));
+}
+
+TEST_CASE("an order study gives the same JSON with 1 and 2 threads, timings aside", "[study]") {
+  OrderOptions o = harmonic("velocity-verlet", 1e-4, 3);
+  o.integrators = {"velocity-verlet", "erk4"};
+  o.threads = 1;
+  auto one = run_order_study(o);
+  o.threads = 2;
+  auto two = run_order_study(o);
+  for (auto* s : {&one, &two})
+    for (auto& entry : (*s)["integrators"]) entry.erase("wall_seconds");
+  CHECK(one == two);
+}
+
+TEST_CASE("an unknown quantity or a case without an exact solution is refused with the choices", "[study]") {
+  OrderOptions o = harmonic("velocity-verlet", 1e-4, 3);
+  o.quantity = "positon";
+  try {
+    run_order_study(o);
+    FAIL("accepted");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).find("'position'") != std::string::npos);
+  }
+  o.quantity = "position";
+  o.scene = testing::case_path("t3_heap.yaml");
+  try {
+    run_order_study(o);
+    FAIL("accepted");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).find("--reference fine") != std::string::npos);
+  }
+}
+
+TEST_CASE("kiln sweep finds velocity Verlet's stability boundary within 10 % of 2/omega", "[study]") {
+  SweepOptions o;
+  o.scene = testing::case_path("harmonic_contact_pair.yaml");
+  o.integrator = "velocity-verlet";
+  o.dt_min = 1e-5;
+  o.dt_max = 1e-3;
+  o.points = 8;
+  o.t_end = 0.05;
+  o.quiet = true;
+  const auto s = run_sweep_study(o);
+  const double m = 4.0 / 3.0 * M_PI * 8e-9 * 8900, limit = 2 * std::sqrt(m / 6000);
+  REQUIRE(s["largest_stable_dt"].is_number());
+  CHECK(s["largest_stable_dt"].get<double>() == Approx(limit).epsilon(0.1));
+  CHECK(s["smallest_unstable_dt"].get<double>() == Approx(limit).epsilon(0.1));
+  CHECK(s["estimate"]["dt_limit"].get<double>() == Approx(limit).epsilon(1e-9));
+  CHECK(s["stable"].front() == true);
+  CHECK(s["stable"].back() == false);
+}
+
+TEST_CASE("kiln wp: the error falls monotonically with dt and the JSON has the documented fields", "[study]") {
+  WorkPrecisionOptions o;
+  o.scene = testing::case_path("t4_two_particle_conduction.yaml");
+  o.integrators = {"velocity-verlet", "erk4"};
+  o.dts = {4e-3, 2e-3, 1e-3};
+  o.quantity = "temperature";
+  o.repeats = 1;
+  o.quiet = true;
+  const auto s = run_work_precision(o);
+  for (const char* key : {"scene", "quantity", "norm", "reference", "t_end", "setting", "repeats", "integrators"})
+    CHECK(s.contains(key));
+  for (const auto& entry : s["integrators"]) {
+    for (const char* key : {"name", "dt", "error", "wall_seconds", "rhs_evals"}) CHECK(entry.contains(key));
+    const auto err = entry["error"].get<std::vector<double>>();
+    for (size_t k = 1; k < err.size(); ++k) CHECK(err[k] < err[k - 1]);
+    const auto evals = entry["rhs_evals"].get<std::vector<long>>();
+    CHECK(evals.back() > evals.front());
+  }
+}
+
+TEST_CASE("kiln wp --seeds: the error is the difference of ensemble means with its standard error as the noise",
+          "[study][heavy]") {
+  // A small drum (40 discs, 50 ms): chaotic, so compared over three fills.
+  WorkPrecisionOptions o;
+  o.scene = testing::case_path("t6_drum.yaml");
+  o.sets = {"particles.0.fill.count=40"};
+  o.integrators = {"velocity-verlet"};
+  o.dts = {4e-6};
+  o.quantity = "temperature_std";
+  o.seeds = 3;
+  o.t_end = 0.05;
+  o.repeats = 1;
+  o.quiet = true;
+  const auto s = run_work_precision(o);
+  // The same runs by hand: mean and standard error over the fills at 4e-6 s and at 2e-6 s.
+  auto ensemble = [&](double dt) {
+    std::vector<double> v;
+    for (int seed = 1; seed <= 3; ++seed) {
+      const Scene scene = load_scene(o.scene, {"particles.0.fill.count=40", "particles.0.fill.seed=" + std::to_string(seed),
+                                               "t_end=0.05", "output_interval=0.05", assignment("dt", dt)});
+      v.push_back(run_scene(scene, {"", true})["temperature_std"].get<double>());
+    }
+    const double mean = (v[0] + v[1] + v[2]) / 3;
+    double dev = 0;
+    for (double x : v) dev += (x - mean) * (x - mean);
+    return std::pair{mean, std::sqrt(dev / 2 / 3)};
+  };
+  const auto [run_mean, run_se] = ensemble(4e-6);
+  const auto [ref_mean, ref_se] = ensemble(2e-6);
+  CHECK(s["reference"] == "ensemble");
+  CHECK(s["seeds"] == 3);
+  CHECK(s["reference_value"].get<double>() == Approx(ref_mean).epsilon(1e-12));
+  CHECK(s["reference_standard_error"].get<double>() == Approx(ref_se).epsilon(1e-9));
+  const auto& entry = s["integrators"][0];
+  CHECK(entry["error"][0].get<double>() == Approx(std::abs(run_mean - ref_mean)).epsilon(1e-9));
+  CHECK(entry["noise"][0].get<double>() == Approx(std::hypot(run_se, ref_se)).epsilon(1e-9));
+  CHECK(ref_se > 0);  // the fills differ
+  // A field cannot be averaged over different fills.
+  o.quantity = "temperature";
+  CHECK_THROWS_WITH(run_work_precision(o), Catch::Contains("is a field"));
+}
+
+TEST_CASE("on a frozen thermal scene the studies compare temperatures and the conduction limit by default",
+          "[study]") {
+  // Before, order and wp defaulted to positions (which never move there) and failed, and sweep
+  // compared its boundary with the contacts' limit (2.3e-6 s on F1 against 2.2e-4 s).
+  OrderOptions o;
+  o.scene = testing::case_path("t4_two_particle_conduction.yaml");
+  o.integrators = {"erk2"};
+  o.dt = 0.02;
+  o.levels = 3;
+  o.quiet = true;
+  const auto order = run_order_study(o);
+  CHECK(order["quantity"] == "temperature");
+  CHECK(fitted(order) == Approx(2).margin(0.3));
+  SweepOptions s;
+  s.scene = o.scene;
+  s.integrator = "erk4";
+  s.dt_min = 0.01;
+  s.dt_max = 0.5;
+  s.points = 4;
+  s.quiet = true;
+  const auto sweep = run_sweep_study(s);
+  // RK4's real stability interval is 2.785 against forward Euler's 2: the limit that binds is the
+  // explicit (Euler) conduction limit times 1.39, and the boundary found lies there.
+  CHECK(sweep["estimate"]["binding_limit"].get<double>() ==
+        Approx(2.785 / 2 * sweep["estimate"]["thermal_dt_limit"].get<double>()).epsilon(1e-3));
+  CHECK(sweep["largest_stable_dt"].get<double>() ==
+        Approx(sweep["estimate"]["binding_limit"].get<double>()).epsilon(0.1));
+}
+
+TEST_CASE("an order fit below nominal whose halvings still rise to it is called pre-asymptotic, not reduced",
+          "[study]") {
+  // The README's example: erk4 on the harmonic contact from 2e-4 s, per-halving orders 0.27,
+  // 3.57, 3.85 (fit 3.71).
+  const auto study = run_order_study(harmonic("erk4", 2e-4, 4));
+  CHECK(fitted(study) < 3.8);
+  CHECK(study["integrators"][0]["verdict"].get<std::string>().rfind("pre-asymptotic", 0) == 0);
+}
+
+TEST_CASE("a study writes its JSON, CSV and plot into a directory whose path has a space and a quote", "[study]") {
+  // The plot script runs without a shell: the path reaches it as it is.
+  const std::filesystem::path dir = testing::fresh_dir("study with 'odd' path");
+  OrderOptions o = harmonic("velocity-verlet", 1e-4, 2);
+  o.out_dir = dir.string();
+  run_order_study(o);
+  for (const char* file : {"order.json", "order.csv", "order.png"}) CHECK(std::filesystem::exists(dir / file));
+  std::filesystem::remove_all(dir);
+}
