@@ -1,10 +1,9 @@
-// What a run does besides the mechanics: heat, the integrator and its steps, the run's checks,
-// its early stop and the quantities it reports.
+// What a run does besides the mechanics: heat, the integrator and its steps, the run's checks
+// and its early stop.
 #include "src/scene/scene_parts.h"
 
 #include <algorithm>
 #include "integrators/integrator.h"
-#include "src/observers/observers.h"
 
 namespace kiln::scene_parts {
 
@@ -108,7 +107,7 @@ void read_stepping(const SceneNode& root, Scene& scene) {
   scene.output_interval = root.has("output_interval") ? root["output_interval"].positive() : scene.t_end / 100;
 }
 
-// The run's own checks, its early stop, and the quantities it reports.
+// The run's own checks and its early stop.
 void read_checks(const SceneNode& root, Scene& scene) {
   if (auto s = root.optional("skin")) scene.skin = length(*s);
   if (auto checks = root.optional("checks")) {
@@ -120,16 +119,7 @@ void read_checks(const SceneNode& root, Scene& scene) {
     scene.stop_kinetic_energy = (*stop)["kinetic_energy_below"].positive();
     if (auto n = stop->optional("not_before")) scene.stop_not_before = n->non_negative();
   }
-  if (auto report = root.optional("report")) {
-    for (const SceneNode& q : report->items()) {
-      const std::string name = q.text();
-      const auto& known = observer_names();
-      if (std::find(known.begin(), known.end(), name) == known.end())
-        q.fail("unknown quantity '" + name + "'; available: " + choices_nearest_first(name, known));
-      if (const std::string need = observer_needs(name, scene); !need.empty()) q.fail("'" + name + "' needs " + need);
-      scene.report.push_back(name);
-    }
-  }
+
 }
 
 }  // namespace kiln::scene_parts

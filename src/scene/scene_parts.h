@@ -1,5 +1,5 @@
 // The scene reader's parts, one file each (read_laws, read_particles, read_walls,
-// read_run_settings, initial_contacts, scene_values, scene_schema), and what they share: the
+// read_run_settings, read_reports, initial_contacts, scene_values, scene_schema), and what they share: the
 // checked readers of values, the memory claim, where each particle came from. scene_yaml.cpp calls
 // them in order. Internal to src/scene/.
 #pragma once
@@ -114,5 +114,6 @@ void check_laws(const Scene& scene, const std::vector<Location>& law_location); 
 void check_initial_contacts(const SceneNode& root, const Scene& scene, const ParticleSets& sets);  // initial_contacts.cpp
 void read_stepping(const SceneNode& root, Scene& scene);                                      // read_run_settings.cpp
 void read_checks(const SceneNode& root, Scene& scene);                                        // read_run_settings.cpp
+void read_reports(const SceneNode& root, Scene& scene);                                       // read_reports.cpp
 
 }  // namespace kiln::scene_parts

@@ -49,6 +49,7 @@ Scene read_scene(const SceneNode& root, const std::string& file, uint64_t memory
   check_initial_contacts(root, scene, sets);
   read_stepping(root, scene);
   read_checks(root, scene);
+  read_reports(root, scene);
   return scene;
 }
 
