@@ -23,12 +23,14 @@ void check(int flag, const char* what) {
 
 ArkodeIntegrator* self_of(void* p) { return static_cast<ArkodeIntegrator*>(p); }
 
+}  // namespace
+
 // A Butcher table by its SUNDIALS name (without the ARKODE_ prefix), or one of the IMEX Euler pair
 // (ARS(1,1,1) [Ascher, Ruuth & Spiteri, Appl. Numer. Math. 25, 1997, sec. 2.1], written with two
 // stages on c = (0, 1)): forward Euler on the explicit part, backward Euler on the implicit part.
 // Backward Euler keeps the maximum principle of conduction at any step: (C + h L)^-1 C is
 // non-negative with rows summing to one, L being a Laplacian (an M-matrix argument).
-ARKodeButcherTable load_table(const std::string& name, bool implicit) {
+ARKodeButcherTable load_butcher_table(const std::string& name, bool implicit) {
   ARKodeButcherTable table = nullptr;
   if (name == imex_euler_table) {
     double c[2] = {0, 1};  // SUNDIALS 6.4.1 takes non-const pointers; it copies them
@@ -44,7 +46,6 @@ ARKodeButcherTable load_table(const std::string& name, bool implicit) {
   return table;
 }
 
-}  // namespace
 
 ArkodeIntegrator::ArkodeIntegrator(ArkodeMethod method, StepControl control)
     : method_(std::move(method)), control_(control) {}
@@ -76,23 +77,29 @@ void ArkodeIntegrator::start(OdeSystem& system, double t0, double* y, double dt)
   create(system, t0, y, dt, dt);
 }
 
-void ArkodeIntegrator::save(Snapshot& s, const std::string& p) const {
+void ArkodeIntegrator::state(SnapshotFields& f) {
   double t_arkode = t_, h = dt_;
-  ARKStepGetCurrentTime(memory_, &t_arkode);
-  ARKStepGetCurrentStep(memory_, &h);
-  s.put(p + "time", {t_, grid_start_, t_arkode, h});
-  s.put_integer(p + "grid_steps", grid_steps_);
+  fields(f, t_arkode, h);
+}
+
+// ARKODE's own time and its current step, as it holds them.
+void ArkodeIntegrator::fields(SnapshotFields& f, double& t_arkode, double& h) {
+  if (f.saving()) {
+    ARKStepGetCurrentTime(memory_, &t_arkode);
+    ARKStepGetCurrentStep(memory_, &h);
+  }
+  f.reals("time", t_, grid_start_, t_arkode, h);
+  f.field("grid_steps", grid_steps_);
 }
 
 // ARKODE is created anew at the saved state and at its own saved time, so that the stage times it
 // passes to the right-hand side are those of the run that saved (fixed steps: bit for bit; its
 // first evaluation there is the one that run made at the end of its step).
 void ArkodeIntegrator::resume(OdeSystem& system, double* y, double dt, const Snapshot& s, const std::string& p) {
-  const std::vector<double>& time = s.reals(p + "time");
-  t_ = time.at(0);
-  grid_start_ = time.at(1);
-  grid_steps_ = s.integer(p + "grid_steps");
-  create(system, time.at(2), y, dt, control_.rtol > 0 ? time.at(3) : dt);
+  SnapshotFields f(s, p);
+  double t_arkode = 0, h = 0;
+  fields(f, t_arkode, h);
+  create(system, t_arkode, y, dt, control_.rtol > 0 ? h : dt);
 }
 
 void ArkodeIntegrator::create(OdeSystem& system, double t0, double* y, double dt, double h) {
@@ -117,8 +124,8 @@ void ArkodeIntegrator::create(OdeSystem& system, double t0, double* y, double dt
   check(ARKStepSetUserData(memory_, this), "SetUserData");
   // ARKODE's own messages off: a failed step becomes kiln's InstabilityError, with its flag name.
   check(ARKStepSetErrFile(memory_, nullptr), "SetErrFile");
-  ARKodeButcherTable explicit_table = load_table(method_.erk_table, false);
-  ARKodeButcherTable implicit_table = imex ? load_table(method_.dirk_table, true) : nullptr;
+  ARKodeButcherTable explicit_table = load_butcher_table(method_.erk_table, false);
+  ARKodeButcherTable implicit_table = imex ? load_butcher_table(method_.dirk_table, true) : nullptr;
   const int flag = ARKStepSetTables(memory_, explicit_table->q, explicit_table->p, implicit_table, explicit_table);
   ARKodeButcherTable_Free(explicit_table);
   ARKodeButcherTable_Free(implicit_table);

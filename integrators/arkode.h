@@ -23,6 +23,11 @@ namespace kiln {
 // The name standing for either table of the IMEX Euler pair (built in arkode.cpp).
 inline constexpr const char* imex_euler_table = "IMEX_EULER";
 
+// A Butcher table by its SUNDIALS name (without the ARKODE_ prefix: ERK tables, or with
+// `implicit` DIRK tables) or imex_euler_table; the caller frees it (ARKodeButcherTable_Free).
+// Throws std::runtime_error for an unknown name.
+ARKodeButcherTable load_butcher_table(const std::string& name, bool implicit);
+
 struct ArkodeMethod {
   std::string erk_table;   // ARKODE name without the prefix, e.g. DORMAND_PRINCE_7_4_5
   std::string dirk_table;  // empty for explicit methods
@@ -37,7 +42,7 @@ class ArkodeIntegrator final : public Integrator {
   double time() const override { return t_; }
   void set_stop_time(double t) override;
   nlohmann::json statistics() const override;
-  void save(Snapshot& s, const std::string& prefix) const override;
+  void state(SnapshotFields& f) override;
   void resume(OdeSystem& system, double* y, double dt, const Snapshot& s, const std::string& prefix) override;
 
  private:
@@ -46,6 +51,7 @@ class ArkodeIntegrator final : public Integrator {
   // Binds the system and state and creates ARKODE at its time `t_arkode` (the run's time t_ may
   // differ from it by the round-off of ARKODE's summed steps), first step `h`.
   void create(OdeSystem& system, double t_arkode, double* y, double dt, double h);
+  void fields(SnapshotFields& f, double& t_arkode, double& h);
   void refresh_stats();
   void evolve_one_step();
   bool locate_event(double t_start);

@@ -145,12 +145,12 @@ class Integrator {
   // Adaptive integrators do not step past this time (an output frame, the end).
   virtual void set_stop_time(double) {}
   const IntegratorStats& stats() const { return stats_; }
-  // Checkpoints. save() writes, under keys starting with `prefix`, what the scheme carries from
-  // one step to the next; resume() binds the system and the live state as start() does, but takes
-  // that from the snapshot instead of evaluating anything, so that the steps which follow are
-  // those the saving run would have taken (bit for bit with fixed steps; an adaptive ARKODE run
-  // goes on from its last step size, with a fresh error-controller history).
-  virtual void save(Snapshot& s, const std::string& prefix) const = 0;
+  // Checkpoints. state() lists, for both directions, what the scheme carries from one step to the
+  // next; resume() binds the system and the live state as start() does, but takes that from the
+  // snapshot (keys under `prefix`) instead of evaluating anything, so that the steps which follow
+  // are those the saving run would have taken (bit for bit with fixed steps; an adaptive ARKODE
+  // run goes on from its last step size, with a fresh error-controller history).
+  virtual void state(SnapshotFields& f) = 0;
   virtual void resume(OdeSystem& system, double* y, double dt, const Snapshot& s, const std::string& prefix) = 0;
   // Everything the integrator counted, for summary.json's integrator_stats.
   virtual nlohmann::json statistics() const { return {{"steps", stats_.steps}, {"rhs_evals", stats_.rhs_evals}}; }
@@ -159,12 +159,22 @@ class Integrator {
   IntegratorStats stats_;
 };
 
+// How an integrator is built: one of the Verlet schemes, or an ARKODE method from its tables.
+enum class IntegratorScheme { basic_verlet, velocity_verlet, velocity_verlet_predicted, arkode };
+
+// An integrator's entry in the registry: everything kiln knows of a method, read from here and
+// never from its name.
 struct IntegratorInfo {
   std::string name;
+  std::string alias_of;       // the name this one is short for; empty for a method's own name
+  IntegratorScheme scheme = IntegratorScheme::velocity_verlet;
+  std::string erk_table, dirk_table;  // arkode: the tables (SUNDIALS names); dirk empty: explicit
   int order = 0;              // nominal order on smooth, velocity-independent forces
   int order_with_dashpot = 0; // order when forces depend on velocity (dashpots, friction)
   int embedding = 0;          // order of the embedded error estimate; 0: none (fixed step only)
   bool implicit = false;      // IMEX: conduction implicit
+  bool locates_contact_events = false;  // can lock contacts within a step and locate onsets and releases
+  bool integrates_contacts = true;      // false: heat on frozen networks only
   std::string summary;
   // How far the method's stability region reaches along the negative real axis, in units of
   // dt lambda: explicit conduction is stable below dt = real_stability / lambda_max. 2 for forward
@@ -178,7 +188,10 @@ double real_stability_of(const std::string& name);
 
 // Every name a user can type, aliases included.
 const std::vector<IntegratorInfo>& integrator_catalogue();
-// Creates an integrator by name; an unknown name throws InputError listing the valid names.
+// The entry of a name (aliases included); an unknown name throws InputError listing the valid names.
+const IntegratorInfo& integrator_info(const std::string& name);
+// Creates an integrator by name; an unknown name throws InputError listing the valid names, and
+// a step control the method cannot follow (rtol without an embedding, contact events) is refused.
 std::unique_ptr<Integrator> make_integrator(const std::string& name, const StepControl& control = {});
 
 }  // namespace kiln

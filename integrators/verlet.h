@@ -21,13 +21,9 @@ class BasicVerlet final : public VerletFamily {
  private:
   void start_without_evaluating(OdeSystem& system, double* y, double dt) override;
   // It runs one position ahead (x_{n+1}) and steps z with the rate at x_n.
-  void save_carried(Snapshot& s, const std::string& p) const override {
-    s.put(p + "ahead", ahead_);
-    s.put(p + "zrate", zrate_);
-  }
-  void resume_carried(const Snapshot& s, const std::string& p) override {
-    ahead_ = s.reals(p + "ahead");
-    zrate_ = s.reals(p + "zrate");
+  void carried(SnapshotFields& f) override {
+    f.field("ahead", ahead_);
+    f.field("zrate", zrate_);
   }
   std::vector<double> ahead_;  // x_{n+1}
   std::vector<double> eval_;   // state at which the force is evaluated

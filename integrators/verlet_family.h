@@ -14,23 +14,19 @@ class VerletFamily : public Integrator {
  public:
   double time() const override { return t_; }
   void set_stop_time(double t) override { stop_ = t; }
-  void save(Snapshot& s, const std::string& p) const override {
-    s.put(p + "time", {t_, t0_, dt_});
-    s.put_integer(p + "count", count_);
-    s.put(p + "rate", rate_);
-    s.put(p + "work_rest", work_rest_);
-    save_carried(s, p);
+  void state(SnapshotFields& f) override {
+    double dt = dt_;  // saved for the record: a resumed run steps at the dt it is given
+    f.reals("time", t_, t0_, dt);
+    f.field("count", count_);
+    f.field("rate", rate_);
+    f.field("work_rest", work_rest_);
+    carried(f);
   }
   void resume(OdeSystem& system, double* y, double dt, const Snapshot& s, const std::string& p) override {
     start_without_evaluating(system, y, dt);
-    const std::vector<double>& time = s.reals(p + "time");
-    t_ = time.at(0);
-    t0_ = time.at(1);
-    count_ = s.integer(p + "count");
+    SnapshotFields f(s, p);
+    state(f);
     stats_.last_step = dt_;
-    rate_ = s.reals(p + "rate");
-    work_rest_ = s.reals(p + "work_rest");
-    resume_carried(s, p);
   }
 
  protected:
@@ -51,8 +47,7 @@ class VerletFamily : public Integrator {
   }
 
   // What a scheme of the family carries between steps beyond the shared state (for checkpoints).
-  virtual void save_carried(Snapshot&, const std::string&) const {}
-  virtual void resume_carried(const Snapshot&, const std::string&) {}
+  virtual void carried(SnapshotFields&) {}
   // Binds the system and the live state and sizes every array (start() and resume()).
   virtual void start_without_evaluating(OdeSystem& system, double* y, double dt) {
     system_ = &system;

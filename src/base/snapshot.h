@@ -1,11 +1,15 @@
 // A snapshot: named arrays of reals, integers and texts, written to and read from one HDF5 file
 // (the checkpoint of a run, checkpoint.h5). Each part of a run saves what it needs to go on bit
-// for bit (its state, not its configuration) under keys of its own, and reads them back.
+// for bit (its state, not its configuration) under keys of its own, and reads them back, both
+// through one list of its fields (SnapshotFields).
 // The file: groups /real (float64 arrays), /integer (int64 arrays), /text (bytes), one dataset per key.
 #pragma once
 #include <map>
 #include <string>
+#include <type_traits>
 #include <vector>
+
+#include "src/base/error.h"
 
 namespace kiln {
 
@@ -46,6 +50,75 @@ class Snapshot {
   std::map<std::string, std::vector<double>> reals_;
   std::map<std::string, std::vector<long long>> integers_;
   std::map<std::string, std::string> texts_;
+};
+
+// What a part of a run carries from step to step, listed once for both directions: a visit
+// writes each field to a snapshot (saving) or reads it back (restoring). A part's
+// `state(SnapshotFields&)` is its checkpoint.
+class SnapshotFields {
+ public:
+  SnapshotFields(Snapshot& out, std::string prefix) : out_(&out), prefix_(std::move(prefix)) {}
+  SnapshotFields(const Snapshot& in, std::string prefix) : in_(&in), prefix_(std::move(prefix)) {}
+  bool saving() const { return out_ != nullptr; }
+  // The same snapshot, keys under prefix + `more`.
+  SnapshotFields within(const std::string& more) const {
+    return out_ ? SnapshotFields(*out_, prefix_ + more) : SnapshotFields(*in_, prefix_ + more);
+  }
+
+  void field(const std::string& key, double& v) {
+    if (out_) out_->put(prefix_ + key, v);
+    else v = in_->real(prefix_ + key);
+  }
+  void field(const std::string& key, std::vector<double>& v) {
+    if (out_) out_->put(prefix_ + key, v);
+    else v = in_->reals(prefix_ + key);
+  }
+  void field(const std::string& key, std::string& v) {
+    if (out_) out_->put_text(prefix_ + key, v);
+    else v = in_->text(prefix_ + key);
+  }
+  void field(const std::string& key, bool& v) {
+    long long i = v;
+    integers(key, i);
+    v = i != 0;
+  }
+  template <class T>
+  void field(const std::string& key, T& v) requires std::is_integral_v<T> {
+    integers(key, v);
+  }
+  template <class T>
+  void field(const std::string& key, std::vector<T>& v) requires std::is_integral_v<T> {
+    if (out_) out_->put_integers(prefix_ + key, v);
+    else in_->get_integers(prefix_ + key, v);
+  }
+  // Several scalars in one array under one key, in this order.
+  template <class... T>
+  void reals(const std::string& key, T&... v) {
+    if (out_) return out_->put(prefix_ + key, std::vector<double>{static_cast<double>(v)...});
+    const std::vector<double>& got = sized(in_->reals(prefix_ + key), sizeof...(T), key);
+    size_t k = 0;
+    ((v = static_cast<T>(got[k++])), ...);
+  }
+  template <class... T>
+  void integers(const std::string& key, T&... v) {
+    if (out_) return out_->put_integers(prefix_ + key, std::vector<long long>{static_cast<long long>(v)...});
+    const std::vector<long long>& got = sized(in_->integers(prefix_ + key), sizeof...(T), key);
+    size_t k = 0;
+    ((v = static_cast<T>(got[k++])), ...);
+  }
+
+ private:
+  // A packed array of another length is another kiln's (or a damaged) checkpoint: refused by name.
+  template <class V>
+  const V& sized(const V& got, size_t n, const std::string& key) const {
+    if (got.size() != n)
+      throw InputError("the checkpoint's '" + prefix_ + key + "' holds " + std::to_string(got.size()) +
+                                  " values where " + std::to_string(n) + " belong");
+    return got;
+  }
+  Snapshot* out_ = nullptr;
+  const Snapshot* in_ = nullptr;
+  std::string prefix_;
 };
 
 }  // namespace kiln

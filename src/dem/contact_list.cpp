@@ -80,36 +80,23 @@ std::vector<contact::ContactFrame> unflatten(const std::vector<double>& v) {
 
 }  // namespace
 
-void ContactList::save(Snapshot& s, const std::string& p) const {
-  s.put_integers(p + "i", i);
-  s.put_integers(p + "j", j);
-  s.put_integers(p + "law", law);
-  s.put_integers(p + "active", active);
-  s.put(p + "k", k);
-  s.put(p + "c", c);
+void ContactList::state(SnapshotFields& f) {
+  f.field("i", i);
+  f.field("j", j);
+  f.field("law", law);
+  f.field("active", active);
+  f.field("k", k);
+  f.field("c", c);
   if (!history) return;
-  s.put(p + "spring", spring);
-  s.put(p + "trial", trial);
-  s.put(p + "roll", roll);
-  s.put(p + "trial_roll", trial_roll);
-  s.put(p + "frame", flatten(frame));
-  s.put(p + "trial_frame", flatten(trial_frame));
-}
-
-void ContactList::restore(const Snapshot& s, const std::string& p) {
-  s.get_integers(p + "i", i);
-  s.get_integers(p + "j", j);
-  s.get_integers(p + "law", law);
-  s.get_integers(p + "active", active);
-  k = s.reals(p + "k");
-  c = s.reals(p + "c");
-  if (!history) return;
-  spring = s.reals(p + "spring");
-  trial = s.reals(p + "trial");
-  roll = s.reals(p + "roll");
-  trial_roll = s.reals(p + "trial_roll");
-  frame = unflatten(s.reals(p + "frame"));
-  trial_frame = unflatten(s.reals(p + "trial_frame"));
+  f.field("spring", spring);
+  f.field("trial", trial);
+  f.field("roll", roll);
+  f.field("trial_roll", trial_roll);
+  for (auto [key, frames] : {std::pair{"frame", &frame}, std::pair{"trial_frame", &trial_frame}}) {
+    std::vector<double> flat = f.saving() ? flatten(*frames) : std::vector<double>{};
+    f.field(key, flat);
+    if (!f.saving()) *frames = unflatten(flat);
+  }
 }
 
 }  // namespace kiln

@@ -55,9 +55,8 @@ struct ContactList {
   void replace(const std::vector<CandidatePair>& fresh, int particles, bool pairs);
   // Sizes the rows and finds each particle's rows (after replace() or restore()).
   void index(int particles, bool pairs);
-  // Checkpoints: the pairs, their coefficients and their history, under keys starting with `prefix`.
-  void save(Snapshot& s, const std::string& prefix) const;
-  void restore(const Snapshot& s, const std::string& prefix);
+  // Checkpoints: the pairs, their coefficients and their history.
+  void state(SnapshotFields& f);
   std::vector<uint8_t> scratch_active;  // replace()'s and index()'s, kept: no allocation per rebuild
   std::vector<int> scratch_next;
   void commit() {

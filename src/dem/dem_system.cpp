@@ -165,39 +165,23 @@ void DemSystem::update_walls(double t, const double* y) {
   seg_time_ = t;
 }
 
-void DemSystem::save(Snapshot& s) const {
-  pp_.save(s, "system.pairs.");
-  pw_.save(s, "system.walls.");
-  s.put("system.reference_x", x_ref_);
-  s.put("system.reference_y", y_ref_);
-  s.put("system.times", {t_ref_, committed_time_, trial_time_, broadphase_.skin(), max_overlap_fraction_});
-  s.put_integers("system.counts", std::vector<long>{built_ ? 1 : 0, rebuilds_});
-  s.put("system.committed_angle", committed_angle_);
-  s.put("system.trial_angle", trial_angle_);
-  s.put("system.work_force", work_force_);
-  s.put("system.body_reference", body_ref_);
-}
-
 // The Box2D tree is not restored: the candidate pairs are kept as saved, and the next rebuild's
 // pairs are those of an exact test in double precision on whatever the tree reports (a superset).
-void DemSystem::restore(const Snapshot& s) {
-  pp_.restore(s, "system.pairs.");
-  pw_.restore(s, "system.walls.");
-  x_ref_ = s.reals("system.reference_x");
-  y_ref_ = s.reals("system.reference_y");
-  const std::vector<double>& times = s.reals("system.times");
-  t_ref_ = times.at(0);
-  committed_time_ = times.at(1);
-  trial_time_ = times.at(2);
-  broadphase_.set_skin(times.at(3));
-  max_overlap_fraction_ = times.at(4);
-  const std::vector<long long>& counts = s.integers("system.counts");
-  built_ = counts.at(0) != 0;
-  rebuilds_ = counts.at(1);
-  committed_angle_ = s.reals("system.committed_angle");
-  trial_angle_ = s.reals("system.trial_angle");
-  work_force_ = s.reals("system.work_force");
-  body_ref_ = s.reals("system.body_reference");
+void DemSystem::state(SnapshotFields& f) {
+  SnapshotFields pairs = f.within("pairs."), walls = f.within("walls.");
+  pp_.state(pairs);
+  pw_.state(walls);
+  f.field("reference_x", x_ref_);
+  f.field("reference_y", y_ref_);
+  double skin = broadphase_.skin();
+  f.reals("times", t_ref_, committed_time_, trial_time_, skin, max_overlap_fraction_);
+  f.integers("counts", built_, rebuilds_);
+  f.field("committed_angle", committed_angle_);
+  f.field("trial_angle", trial_angle_);
+  f.field("work_force", work_force_);
+  f.field("body_reference", body_ref_);
+  if (f.saving()) return;
+  broadphase_.set_skin(skin);
   if (static_cast<int>(x_ref_.size()) != n_ || pp_.k.size() != pp_.i.size() || pw_.k.size() != pw_.i.size())
     throw InputError("the checkpoint's contact lists do not fit this scene's " + std::to_string(n_) + " particles");
   auto within = [](const std::vector<int>& v, int n) { return std::all_of(v.begin(), v.end(), [n](int k) { return k >= 0 && k < n; }); };

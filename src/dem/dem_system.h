@@ -100,10 +100,9 @@ class DemSystem final : public OdeSystem {
 
   std::vector<double> initial_state() const;
   // Checkpoints: what evaluations and steps change (neighbour lists and where they were built,
-  // contact history, committed angles, the latest work forces), under keys "system.*". A system
-  // restored into one built from the same scene evaluates as the saved one would have.
-  void save(Snapshot& s) const;
-  void restore(const Snapshot& s);
+  // contact history, committed angles, the latest work forces). A system restored into one built
+  // from the same scene evaluates as the saved one would have.
+  void state(SnapshotFields& f);
   int particles() const { return n_; }
   bool rotates() const { return rotates_; }
   // Offsets of each field in y (angle and omega are -1 when the scene does not rotate).

@@ -14,27 +14,8 @@ namespace kiln {
 
 class DemSystem;
 
-// What an observer has accumulated, by name, for checkpoints: one visit writes each field to a
-// snapshot (saving) or reads it back (restoring), so an observer lists its fields once.
-class ObserverState {
- public:
-  ObserverState(Snapshot& out, std::string prefix) : out_(&out), prefix_(std::move(prefix)) {}
-  ObserverState(const Snapshot& in, std::string prefix) : in_(&in), prefix_(std::move(prefix)) {}
-  void field(const std::string& key, double& v);
-  void field(const std::string& key, bool& v);
-  void field(const std::string& key, int& v);
-  void field(const std::string& key, std::vector<double>& v);
-  template <class T>
-  void field(const std::string& key, std::vector<T>& v) {  // integers
-    if (out_) out_->put_integers(prefix_ + key, v);
-    else in_->get_integers(prefix_ + key, v);
-  }
-
- private:
-  Snapshot* out_ = nullptr;
-  const Snapshot* in_ = nullptr;
-  std::string prefix_;
-};
+// What an observer has accumulated, for checkpoints: its fields listed once for both directions.
+using ObserverState = SnapshotFields;
 
 class Observer {
  public:

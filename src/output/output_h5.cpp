@@ -9,10 +9,11 @@ namespace kiln {
 
 H5Frames::H5Frames(const std::string& path, const ResultLayout& layout) : path_(path), layout_(layout) {
   h5_setup();
+  std::fill_n(ds_, frame_field_count, -1);
   file_ = h5_id(H5Fcreate(path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT), "create", path_);
   try {
-    for (int f = 0; f < f_count; ++f)
-      if (present(Field(f))) ds_[f] = create(shape(Field(f)));
+    for (const FrameFieldInfo& f : frame_fields)
+      if (present(f)) ds_[static_cast<int>(f.field)] = create(shape(f));
   } catch (...) {
     abandon();  // no destructor runs for an object whose constructor throws
     throw;
@@ -23,10 +24,11 @@ H5Frames::H5Frames(const std::string& path, const ResultLayout& layout) : path_(
 
 H5Frames::H5Frames(const std::string& path, const ResultLayout& layout, int keep) : path_(path), layout_(layout) {
   h5_setup();
+  std::fill_n(ds_, frame_field_count, -1);
   file_ = h5_id(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), "open (to resume)", path_);
   try {
-    for (int f = 0; f < f_count; ++f)
-      if (present(Field(f))) ds_[f] = open(shape(Field(f)), keep);
+    for (const FrameFieldInfo& f : frame_fields)
+      if (present(f)) ds_[static_cast<int>(f.field)] = open(shape(f), keep);
     h5_check(H5Fflush(file_, H5F_SCOPE_GLOBAL), "write", path_);
   } catch (...) {
     abandon();
@@ -39,47 +41,30 @@ H5Frames::H5Frames(const std::string& path, const ResultLayout& layout, int keep
 
 H5Frames::~H5Frames() { abandon(); }
 
-bool H5Frames::present(Field f) const {
-  switch (f) {
-    case f_temperature:
-      return layout_.thermal;
-    case f_segments:
-      return layout_.walls > 0 && layout_.walls_move;
-    case f_force:
-    case f_torque:
-    case f_power:
-      return layout_.walls > 0;
-    default:
-      return true;
+bool H5Frames::present(const FrameFieldInfo& f) const {
+  switch (f.when) {
+    case FramePresence::always: return true;
+    case FramePresence::thermal: return layout_.thermal;
+    case FramePresence::moving_walls: return layout_.walls > 0 && layout_.walls_move;
+    case FramePresence::walls: return layout_.walls > 0;
   }
+  return false;
 }
 
-H5Frames::Shape H5Frames::shape(Field f) const {
-  const hsize_t n = static_cast<hsize_t>(layout_.particles), w = static_cast<hsize_t>(layout_.walls);
-  switch (f) {
-    case f_time:
-      return {"time", "s", 0, {0, 0}};
-    case f_position:
-      return {"position", "m", 2, {n, 3}};
-    case f_velocity:
-      return {"velocity", "m/s", 2, {n, 3}};
-    case f_angle:
-      return {"angle", "rad", 1, {n, 0}};
-    case f_omega:
-      return {"angular_velocity", "rad/s", 1, {n, 0}};
-    case f_temperature:
-      return {"temperature", "degC", 1, {n, 0}};
-    case f_segments:
-      return {"wall_segments", "m", 2, {static_cast<hsize_t>(layout_.segments), 4}};
-    case f_force:
-      return {"wall_force", "N", 2, {w, 3}};
-    case f_torque:
-      return {"wall_torque", "N m", 1, {w, 0}};
-    case f_power:
-      return {"wall_power", "W", 1, {w, 0}};
-    default:
-      return {};
+H5Frames::Shape H5Frames::shape(const FrameFieldInfo& f) const {
+  const int items = f.of == FrameOf::particles ? layout_.particles
+                    : f.of == FrameOf::segments ? layout_.segments
+                    : f.of == FrameOf::walls    ? layout_.walls
+                                                : 1;
+  const hsize_t n = static_cast<hsize_t>(items);
+  if (f.of == FrameOf::run) return {f.name, f.units, 0, {0, 0}};
+  switch (f.layout) {
+    case FrameLayout::scalar: return {f.name, f.units, 1, {n, 0}};
+    case FrameLayout::x_block_y_block:
+    case FrameLayout::xy_pairs: return {f.name, f.units, 2, {n, 3}};
+    case FrameLayout::segment_rows: return {f.name, f.units, 2, {n, 4}};
   }
+  return {};
 }
 
 // The text attribute `units` of a dataset.
@@ -152,9 +137,9 @@ hid_t H5Frames::open(const Shape& s, int keep) {
   return ds;
 }
 
-void H5Frames::extend_and_write(Field f, const double* data) {
-  const Shape s = shape(f);
-  const hid_t ds = ds_[f];
+void H5Frames::extend_and_write(FrameField f, const double* data) {
+  const Shape s = shape(frame_field(f));
+  const hid_t ds = ds_[static_cast<int>(f)];
   hsize_t size[3] = {static_cast<hsize_t>(frames_ + 1), 0, 0}, start[3] = {static_cast<hsize_t>(frames_), 0, 0},
           count[3] = {1, 0, 0};
   for (int k = 0; k < s.rank; ++k) size[k + 1] = count[k + 1] = s.dims[k];
@@ -169,37 +154,35 @@ void H5Frames::extend_and_write(Field f, const double* data) {
   h5_check(status, what.c_str(), path_);
 }
 
-const double* H5Frames::triples(const double* x, const double* y, int n) {
-  for (int i = 0; i < n; ++i) {
-    triple_buffer_[3 * i] = x[i];
-    triple_buffer_[3 * i + 1] = y[i];
-    triple_buffer_[3 * i + 2] = 0;
+// What the file holds of a frame's values: (x, y, 0) triples of two-component fields, zeros for
+// a field the frame leaves null.
+const double* H5Frames::as_written(const FrameFieldInfo& f, const double* values) {
+  const int n = static_cast<int>(shape(f).dims[0]);
+  if (!values && f.zeros_when_absent) return zeros_.data();
+  if (f.layout == FrameLayout::x_block_y_block) {
+    for (int i = 0; i < n; ++i) {
+      triple_buffer_[3 * i] = values[i];
+      triple_buffer_[3 * i + 1] = values[n + i];
+      triple_buffer_[3 * i + 2] = 0;
+    }
+    return triple_buffer_.data();
   }
-  return triple_buffer_.data();
+  if (f.layout == FrameLayout::xy_pairs) {
+    for (int i = 0; i < n; ++i) {
+      triple_buffer_[3 * i] = values[2 * i];
+      triple_buffer_[3 * i + 1] = values[2 * i + 1];
+      triple_buffer_[3 * i + 2] = 0;
+    }
+    return triple_buffer_.data();
+  }
+  return values;
 }
 
-const double* H5Frames::triples(const double* xy, int n) {
-  for (int i = 0; i < n; ++i) {
-    triple_buffer_[3 * i] = xy[2 * i];
-    triple_buffer_[3 * i + 1] = xy[2 * i + 1];
-    triple_buffer_[3 * i + 2] = 0;
-  }
-  return triple_buffer_.data();
-}
-
-void H5Frames::append(const H5Frame& f) {
-  const int n = layout_.particles;
-  extend_and_write(f_time, &f.t);
-  extend_and_write(f_position, triples(f.x, f.y, n));
-  extend_and_write(f_velocity, triples(f.vx, f.vy, n));
-  extend_and_write(f_angle, f.angle ? f.angle : zeros_.data());
-  extend_and_write(f_omega, f.omega ? f.omega : zeros_.data());
-  if (ds_[f_temperature] >= 0) extend_and_write(f_temperature, f.temperature);
-  if (ds_[f_segments] >= 0) extend_and_write(f_segments, f.segments);
-  if (ds_[f_force] >= 0) {
-    extend_and_write(f_force, triples(f.wall_force, layout_.walls));
-    extend_and_write(f_torque, f.wall_torque);
-    extend_and_write(f_power, f.wall_power);
+void H5Frames::append(const H5Frame& frame) {
+  for (const FrameFieldInfo& f : frame_fields) {
+    if (ds_[static_cast<int>(f.field)] < 0) continue;
+    const double* values = f.of == FrameOf::run ? &frame.t : frame[f.field];
+    extend_and_write(f.field, as_written(f, values));
   }
   // Written through to the file now: HDF5 would otherwise hold the frame (and report a failed
   // write) until close, and a run killed before then would leave metadata that no reader opens.
@@ -235,10 +218,10 @@ std::vector<double> H5Frames::times() const {
   std::vector<double> t(frames_);
   if (frames_ == 0) return t;
   const hsize_t start[] = {0}, count[] = {static_cast<hsize_t>(frames_)};
-  const hid_t file_space = h5_id(H5Dget_space(ds_[f_time]), "read the frame times of", path_);
+  const hid_t file_space = h5_id(H5Dget_space(ds_[static_cast<int>(FrameField::time)]), "read the frame times of", path_);
   const hid_t mem_space = H5Screate_simple(1, count, nullptr);
   herr_t status = mem_space < 0 ? -1 : H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr);
-  if (status >= 0) status = H5Dread(ds_[f_time], H5T_NATIVE_DOUBLE, mem_space, file_space, H5P_DEFAULT, t.data());
+  if (status >= 0) status = H5Dread(ds_[static_cast<int>(FrameField::time)], H5T_NATIVE_DOUBLE, mem_space, file_space, H5P_DEFAULT, t.data());
   if (mem_space >= 0) H5Sclose(mem_space);
   H5Sclose(file_space);
   h5_check(status, "read the frame times of", path_);

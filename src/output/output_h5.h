@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "src/output/frame_fields.h"
 #include "src/output/outputs.h"
 
 namespace kiln {
@@ -42,17 +43,13 @@ struct ResultTable {
   std::vector<double> values;
 };
 
-// One frame's fields, each an array of the layout's size (null where noted).
+// One frame: its time and, per field of frame_fields.h, its values laid out as the field says
+// (null where a field is absent from the layout, or zeros when the field allows).
 struct H5Frame {
   double t = 0;
-  const double *x = nullptr, *y = nullptr, *vx = nullptr, *vy = nullptr;
-  const double* angle = nullptr;        // null: zeros
-  const double* omega = nullptr;        // null: zeros
-  const double* temperature = nullptr;  // thermal scenes
-  const double* segments = nullptr;     // 4 S (x_a, y_a, x_b, y_b): when walls move
-  const double* wall_force = nullptr;   // 2 W (x, y): in scenes with walls
-  const double* wall_torque = nullptr;  // W
-  const double* wall_power = nullptr;   // W
+  const double* values[frame_field_count] = {};
+  const double*& operator[](FrameField f) { return values[static_cast<int>(f)]; }
+  const double* operator[](FrameField f) const { return values[static_cast<int>(f)]; }
 };
 
 class H5Frames {
@@ -85,32 +82,24 @@ class H5Frames {
   void abandon();  // closes without checking (a run that failed: the file is removed)
 
  private:
-  // The datasets of frames, in the order they are written.
-  enum Field {
-    f_time, f_position, f_velocity, f_angle, f_omega, f_temperature,  // particles
-    f_segments,                                                        // when walls move
-    f_force, f_torque, f_power,                                        // when there are walls
-    f_count
-  };
   struct Shape {
     const char* name = nullptr;
     const char* units = nullptr;
     int rank = 0;  // of one frame
     hsize_t dims[2] = {0, 0};
   };
-  bool present(Field f) const;
-  Shape shape(Field f) const;
+  bool present(const FrameFieldInfo& f) const;
+  Shape shape(const FrameFieldInfo& f) const;
   hid_t create(const Shape& s);
   hid_t open(const Shape& s, int keep);
-  void extend_and_write(Field f, const double* data);
+  void extend_and_write(FrameField f, const double* data);
   void units(hid_t object, const char* units, const std::string& dataset);
   void write_array(const char* name, hid_t type, int rank, const hsize_t* dims, const void* data, const char* units);
-  const double* triples(const double* x, const double* y, int n);  // (x, y, 0) interleaved
-  const double* triples(const double* xy, int n);                   // (x, y) pairs to (x, y, 0)
+  const double* as_written(const FrameFieldInfo& f, const double* values);  // (x, y, 0) triples, zeros
   std::string path_;
   ResultLayout layout_;
   hid_t file_ = -1;
-  hid_t ds_[f_count] = {-1, -1, -1, -1, -1, -1, -1, -1, -1, -1};
+  hid_t ds_[frame_field_count];  // -1: not in the file (set for every field by the constructors)
   int frames_ = 0;
   std::vector<double> triple_buffer_, zeros_;
 };

@@ -1,6 +1,8 @@
 #include <cstdio>
 #include <sstream>
+#include <vector>
 
+#include "src/output/frame_fields.h"
 #include "src/output/outputs.h"
 
 namespace kiln {
@@ -64,10 +66,13 @@ std::string xdmf_document(const std::string& h5, const ResultLayout& layout, con
       << "          <Geometry GeometryType=\"XYZ\">\n"
       << frame_of(h5, "position", k, frames, {n, 3}, in) << "          </Geometry>\n";
     attribute("radius", "Scalar", "Node", in + whole(h5, "radius", std::to_string(n)) + "\n");
-    attribute("velocity", "Vector", "Node", frame_of(h5, "velocity", k, frames, {n, 3}, in));
-    attribute("angle", "Scalar", "Node", frame_of(h5, "angle", k, frames, {n}, in));
-    attribute("angular_velocity", "Scalar", "Node", frame_of(h5, "angular_velocity", k, frames, {n}, in));
-    if (layout.thermal) attribute("temperature", "Scalar", "Node", frame_of(h5, "temperature", k, frames, {n}, in));
+    for (const FrameFieldInfo& f : frame_fields) {
+      if (f.of != FrameOf::particles || !f.xdmf_attribute) continue;
+      if (f.when == FramePresence::thermal && !layout.thermal) continue;
+      const bool vector = f.layout != FrameLayout::scalar;
+      attribute(f.name, f.xdmf_attribute, "Node",
+                frame_of(h5, f.name, k, frames, vector ? std::vector<size_t>{n, 3} : std::vector<size_t>{n}, in));
+    }
     attribute("id", "Scalar", "Node", in + whole(h5, "id", std::to_string(n), true, 8) + "\n");
     x << "        </Grid>\n";
     if (layout.walls > 0) {

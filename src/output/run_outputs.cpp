@@ -208,29 +208,26 @@ void RunOutputs::segments_rows() {
 void RunOutputs::frame(double t, const double* y) {
   H5Frame f;
   f.t = t;
-  f.x = y + sys_.x_at();
-  f.y = y + sys_.y_at();
+  f[FrameField::position] = y + sys_.x_at();  // the y block follows the x block (DemSystem's layout)
   if (sys_.cell().any()) {  // the places in the periodic cell, not the continuous positions
     const int n = sys_.particles();
     wrapped_.resize(2 * n);
     for (int i = 0; i < n; ++i) {
-      const Vec2 p = sys_.cell().wrap({f.x[i], f.y[i]});
+      const Vec2 p = sys_.cell().wrap({y[sys_.x_at() + i], y[sys_.y_at() + i]});
       wrapped_[i] = p.x;
       wrapped_[n + i] = p.y;
     }
-    f.x = wrapped_.data();
-    f.y = wrapped_.data() + n;
+    f[FrameField::position] = wrapped_.data();
   }
-  f.vx = y + sys_.vx_at();
-  f.vy = y + sys_.vy_at();
-  f.angle = sys_.rotates() ? y + sys_.angle_at() : nullptr;
-  f.omega = sys_.rotates() ? y + sys_.omega_at() : nullptr;
-  f.temperature = sys_.thermal() ? y + sys_.temperature_at() : nullptr;
+  f[FrameField::velocity] = y + sys_.vx_at();
+  f[FrameField::angle] = sys_.rotates() ? y + sys_.angle_at() : nullptr;
+  f[FrameField::angular_velocity] = sys_.rotates() ? y + sys_.omega_at() : nullptr;
+  f[FrameField::temperature] = sys_.thermal() ? y + sys_.temperature_at() : nullptr;
   if (layout_.walls > 0) {
     if (layout_.walls_move) {
       sys_.wall_geometry(t, y, wall_a_, wall_b_);
       segments_rows();
-      f.segments = segments_.data();
+      f[FrameField::wall_segments] = segments_.data();
     }
     // The loads of the system's latest force evaluation (DemSystem::wall_loads).
     const std::vector<DemSystem::WallLoad>& loads = sys_.wall_loads();
@@ -246,9 +243,9 @@ void RunOutputs::frame(double t, const double* y) {
       wall_torque_[w] = loads[w].torque;
       wall_power_[w] = loads[w].power;
     }
-    f.wall_force = wall_force_.data();
-    f.wall_torque = wall_torque_.data();
-    f.wall_power = wall_power_.data();
+    f[FrameField::wall_force] = wall_force_.data();
+    f[FrameField::wall_torque] = wall_torque_.data();
+    f[FrameField::wall_power] = wall_power_.data();
   }
   h5_->append(f);
   times_.push_back(t);

@@ -49,17 +49,7 @@ struct StepSizes {
     if (count == 0) return {{"steps", 0}};
     return {{"steps", count}, {"min", min}, {"max", max}, {"mean", sum / count}, {"last", last}};
   }
-  void save(Snapshot& s, const std::string& key) const {
-    s.put(key, {static_cast<double>(count), min, max, sum, last});
-  }
-  void restore(const Snapshot& s, const std::string& key) {
-    const std::vector<double>& v = s.reals(key);
-    count = static_cast<long>(v.at(0));
-    min = v.at(1);
-    max = v.at(2);
-    sum = v.at(3);
-    last = v.at(4);
-  }
+  void state(SnapshotFields& f, const std::string& key) { f.reals(key, count, min, max, sum, last); }
 };
 
 nlohmann::json ledger_json(const EnergyLedger& e, const EnergyLedger& initial, bool thermal) {
@@ -152,6 +142,8 @@ class SceneRun {
   void count_contacts();
   void integrate_wall_loads(double h);
   void save_checkpoint();
+  void state(SnapshotFields& f);
+  void parts(SnapshotFields& f);
   void close_stage(Integrator& stepper, nlohmann::json& stats);
   nlohmann::json summary(Ended ended);
   double checkpoint_every() const {
@@ -451,8 +443,6 @@ void SceneRun::save_checkpoint() {
   last_checkpoint_step_ = total_steps_ + stage_steps_;
   Snapshot s;
   s.put_text("kiln_version", KILN_VERSION);
-  s.put_text("run_id", run_id_);
-  s.put_text("start_time", start_time_);
   s.put_text("scene.file", options_.source.file);
   s.put_text("scene.text", options_.source.text);
   std::string overrides;
@@ -462,89 +452,89 @@ void SceneRun::save_checkpoint() {
   for (const std::string& i : scene_.inputs) inputs += i + '\n';
   s.put_text("scene.inputs", inputs);
   s.put("scene.output_interval", scene_.output_interval);
-  s.put("time", t_);
-  s.put("state", y_);
   s.put_integer("frames", files_->frames());
-  s.put("resumed_at", resumed_at_);
-  s.put("wall_seconds", wall_before_ + seconds_since(wall_start_));
-  s.put("profile", profile().values());
-  s.put("initial_ledger", ledger_values(initial_));
-  s.put("history.time", history_time_);
-  s.put("history.balance_error", history_error_);
-  s.put("contacts", {contacts_sum_, static_cast<double>(contact_samples_)});
-  s.put("walls.sums", wall_sums_);
-  s.put("walls.time", wall_time_);
-  s.put("frozen_at", frozen_at_);
-  s.put_integers("totals", std::vector<long>{total_steps_, total_rhs_});
-  all_steps_.save(s, "all_steps");
-  s.put_text("integrator_stats", integrator_stats_.dump());
+  SnapshotFields fields(s, "");
+  state(fields);
   Integrator& stepper = stage_ == mechanics_stage ? *integrator_ : *heat_stepper_;
-  s.put_integer("stage", stage_);
-  s.put("stage.times", {stage_t0_, stage_dt_, stage_interval_, next_checkpoint_,
-                        stage_ == heat_stage ? heat_wall_before_ + seconds_since(heat_start_) : 0.0});
-  s.put_integers("stage.counts", std::vector<long>{stage_steps_, stage_rhs_before_ + stepper.stats().rhs_evals});
-  s.put("stage.frame", stage_frame_);
-  stage_sizes_.save(s, "stage.step_sizes");
-  s.put_text("stage.statistics", merged_statistics(stage_stats_before_, stepper.statistics()).dump());
-  stepper.save(s, "integrator.");
-  system_.save(s);
-  guard_->save(s);
-  for (size_t k = 0; k < observers_.size(); ++k) {
-    ObserverState fields(s, "observer." + std::to_string(k) + ".");
-    observers_[k]->state(fields);
-  }
+  SnapshotFields integrator(s, "integrator.");
+  stepper.state(integrator);
+  parts(fields);
   files_->checkpoint(s);
 }
 
-void SceneRun::resume(const Snapshot& s) {
-  run_id_ = s.text("run_id");
-  start_time_ = s.text("start_time");
-  t_ = s.real("time");
-  if (!(scene_.t_end > t_))
-    throw InputError("the checkpoint is at t = " + std::to_string(t_) + " s: give a later --t-end to go on");
-  const std::vector<double>& state = s.reals("state");
-  if (state.size() != y_.size())
-    throw InputError("the checkpoint's state has " + std::to_string(state.size()) + " components, this scene's " +
-                     std::to_string(y_.size()));
-  y_ = state;
-  resumed_at_ = s.reals("resumed_at");
+// What the run itself carries from step to step; what a saving run computes (seconds, counts,
+// statistics of the running stage) is read back as what the resumed run starts from.
+void SceneRun::state(SnapshotFields& f) {
+  const bool saving = f.saving();
+  f.field("run_id", run_id_);
+  f.field("start_time", start_time_);
+  f.field("time", t_);
+  f.field("state", y_);  // a resumed run has checked its length
+  f.field("resumed_at", resumed_at_);
+  double wall = saving ? wall_before_ + seconds_since(wall_start_) : 0;
+  f.field("wall_seconds", wall);
+  std::vector<double> stages = saving ? profile().values() : std::vector<double>{};
+  f.field("profile", stages);
+  std::vector<double> initial = saving ? ledger_values(initial_) : std::vector<double>{};
+  f.field("initial_ledger", initial);
+  f.field("history.time", history_time_);
+  f.field("history.balance_error", history_error_);
+  f.reals("contacts", contacts_sum_, contact_samples_);
+  f.field("walls.sums", wall_sums_);
+  f.field("walls.time", wall_time_);
+  f.field("frozen_at", frozen_at_);
+  f.integers("totals", total_steps_, total_rhs_);
+  all_steps_.state(f, "all_steps");
+  std::string integrator_stats = saving ? integrator_stats_.dump() : "";
+  f.field("integrator_stats", integrator_stats);
+  long long stage = stage_;
+  f.field("stage", stage);
+  const Integrator* stepper = !saving ? nullptr : stage_ == mechanics_stage ? integrator_.get() : heat_stepper_.get();
+  double next_checkpoint = next_checkpoint_;
+  double heat_wall = saving && stage_ == heat_stage ? heat_wall_before_ + seconds_since(heat_start_) : 0.0;
+  f.reals("stage.times", stage_t0_, stage_dt_, stage_interval_, next_checkpoint, heat_wall);
+  long rhs = saving ? stage_rhs_before_ + stepper->stats().rhs_evals : 0;
+  f.integers("stage.counts", stage_steps_, rhs);
+  f.field("stage.frame", stage_frame_);
+  stage_sizes_.state(f, "stage.step_sizes");
+  std::string stage_statistics = saving ? merged_statistics(stage_stats_before_, stepper->statistics()).dump() : "";
+  f.field("stage.statistics", stage_statistics);
+  if (saving) return;
   resumed_at_.push_back(t_);
-  wall_before_ = s.real("wall_seconds");
-  profile_.set_values(s.reals("profile"));  // the system's stages of earlier segments counted here
-  initial_ = ledger_of(s.reals("initial_ledger"));
-  history_time_ = s.reals("history.time");
-  history_error_ = s.reals("history.balance_error");
-  const std::vector<double>& contacts = s.reals("contacts");
-  contacts_sum_ = contacts.at(0);
-  contact_samples_ = static_cast<long>(contacts.at(1));
-  wall_sums_ = s.reals("walls.sums");
-  wall_time_ = s.real("walls.time");
-  frozen_at_ = s.real("frozen_at");
-  const std::vector<long long>& totals = s.integers("totals");
-  total_steps_ = totals.at(0);
-  total_rhs_ = totals.at(1);
-  all_steps_.restore(s, "all_steps");
-  integrator_stats_ = nlohmann::json::parse(s.text("integrator_stats"));
-  stage_ = s.integer("stage") == heat_stage ? heat_stage : mechanics_stage;
-  const std::vector<double>& times = s.reals("stage.times");
-  stage_t0_ = times.at(0);
-  stage_dt_ = times.at(1);
-  stage_interval_ = times.at(2);
-  next_checkpoint_ = options_.checkpoint_every > 0 ? t_ + options_.checkpoint_every : times.at(3);
-  heat_wall_before_ = times.at(4);
-  const std::vector<long long>& counts = s.integers("stage.counts");
-  stage_steps_ = counts.at(0);
-  stage_rhs_before_ = counts.at(1);
-  stage_frame_ = s.real("stage.frame");
-  stage_sizes_.restore(s, "stage.step_sizes");
-  stage_stats_before_ = nlohmann::json::parse(s.text("stage.statistics"));
-  system_.restore(s);
-  guard_ = std::make_unique<StabilityGuard>(scene_, system_, initial_);
-  guard_->restore(s);
+  wall_before_ = wall;
+  profile_.set_values(stages);  // the system's stages of earlier segments counted here
+  initial_ = ledger_of(initial);
+  integrator_stats_ = nlohmann::json::parse(integrator_stats);
+  stage_ = stage == heat_stage ? heat_stage : mechanics_stage;
+  next_checkpoint_ = options_.checkpoint_every > 0 ? t_ + options_.checkpoint_every : next_checkpoint;
+  heat_wall_before_ = heat_wall;
+  stage_rhs_before_ = rhs;
+  stage_stats_before_ = nlohmann::json::parse(stage_statistics);
+}
+
+// The states of the run's parts, each under its own keys: the system, the checks, the observers.
+void SceneRun::parts(SnapshotFields& f) {
+  SnapshotFields system = f.within("system."), checks = f.within("checks.");
+  system_.state(system);
+  if (!f.saving()) guard_ = std::make_unique<StabilityGuard>(scene_, system_, initial_);
+  guard_->state(checks);
   for (size_t k = 0; k < observers_.size(); ++k) {
-    ObserverState fields(s, "observer." + std::to_string(k) + ".");
-    observers_[k]->state(fields);
+    SnapshotFields observer = f.within("observer." + std::to_string(k) + ".");
+    observers_[k]->state(observer);
   }
+}
+
+void SceneRun::resume(const Snapshot& s) {
+  const double t = s.real("time");
+  if (!(scene_.t_end > t))
+    throw InputError("the checkpoint is at t = " + std::to_string(t) + " s: give a later --t-end to go on");
+  const std::vector<double>& state_vector = s.reals("state");
+  if (state_vector.size() != y_.size())
+    throw InputError("the checkpoint's state has " + std::to_string(state_vector.size()) + " components, this scene's " +
+                     std::to_string(y_.size()));
+  SnapshotFields fields(s, "");
+  state(fields);
+  parts(fields);
   if (!options_.out_dir.empty())
     files_ = std::make_unique<RunOutputs>(options_.out_dir, system_, run_id_, static_cast<int>(s.integer("frames")), s);
   if (stage_ == mechanics_stage) {

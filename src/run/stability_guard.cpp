@@ -205,23 +205,10 @@ void StabilityGuard::fail(double t, const std::string& what) const {
   throw InstabilityError(s.str());
 }
 
-void StabilityGuard::save(Snapshot& s) const {
-  s.put("checks.measured", {largest_exchange_, worst_relative_error_, worst_error_time_, overshoot_, overshoot_time_,
-                            previous_excursion_});
-  s.put_integers("checks.counts", std::vector<long>{steps_, overshoot_particle_});
-}
-
-void StabilityGuard::restore(const Snapshot& s) {
-  const std::vector<double>& m = s.reals("checks.measured");
-  largest_exchange_ = m.at(0);
-  worst_relative_error_ = m.at(1);
-  worst_error_time_ = m.at(2);
-  overshoot_ = m.at(3);
-  overshoot_time_ = m.at(4);
-  previous_excursion_ = m.at(5);
-  const std::vector<long long>& counts = s.integers("checks.counts");
-  steps_ = counts.at(0);
-  overshoot_particle_ = static_cast<int>(counts.at(1));
+void StabilityGuard::state(SnapshotFields& f) {
+  f.reals("measured", largest_exchange_, worst_relative_error_, worst_error_time_, overshoot_, overshoot_time_,
+          previous_excursion_);
+  f.integers("counts", steps_, overshoot_particle_);
 }
 
 }  // namespace kiln

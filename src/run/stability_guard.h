@@ -36,11 +36,10 @@ class StabilityGuard {
   const StabilityEstimate& estimate() const { return estimate_; }
   // What the checks measured over the run, for summary.json's "checks".
   nlohmann::json figures() const;
+  // Checkpoints: what the checks have measured so far.
+  void state(SnapshotFields& f);
   // The stage now running, for the message: its step, and for a stage of heat alone the explicit
   // conduction limit of its network (NaN for the mechanical stage).
-  // Checkpoints: what the checks have measured so far (keys "checks.*").
-  void save(Snapshot& s) const;
-  void restore(const Snapshot& s);
   void set_stage(double dt, double heat_limit = NAN) {
     dt_ = dt;
     heat_limit_ = heat_limit;

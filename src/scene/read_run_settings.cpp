@@ -15,15 +15,16 @@ namespace {
 // forward Euler grows every undamped contact oscillation).
 void check_integrators(const SceneNode& root, const Scene& scene) {
   auto check = [&](const SceneNode* node, const std::string& name, bool mechanics) {
+    const IntegratorInfo* info = nullptr;
     try {
-      make_integrator(name);
+      info = &integrator_info(name);
     } catch (const InputError& e) {
       if (node) node->fail(e.what());
       throw;
     }
-    if (mechanics && name == "imex1") {
+    if (mechanics && !info->integrates_contacts) {
       const std::string why =
-          "imex1 integrates heat on frozen networks only: its explicit Euler part is unstable on undamped contacts. Use "
+          name + " integrates heat on frozen networks only: its explicit Euler part is unstable on undamped contacts. Use "
           "it with 'mechanics: frozen' or as 'freeze.integrator'; for moving grains pick imex3, imex4 or imex5";
       if (node) node->fail(why);
       throw InputError(why);

@@ -28,7 +28,7 @@ void run_to(testing::Run& run, double t_end) {
 double stick_spin_error(const std::string& integrator, double dt) {
   testing::Run run(testing::case_text("stick_two_sevenths.yaml"),
                    {"integrator=" + integrator, assignment("dt", dt), "contact_events=" +
-                    std::string(integrator.rfind("erk", 0) == 0 ? "true" : "false")});
+                    std::string(integrator_info(integrator).locates_contact_events ? "true" : "false")});
   run_to(run, 8e-5);
   return std::abs(run.omega(0) - (-10.0 / 7.0 * 1.95 / 0.0025));
 }

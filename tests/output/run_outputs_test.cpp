@@ -407,12 +407,13 @@ TEST_CASE("reopening result.h5 to resume cuts every dataset of frames to the che
   layout.walls = 2;
   layout.segments = 3;
   layout.walls_move = true;
-  const std::vector<double> two(2, 1.0), six(6, 1.0), twelve(12, 1.0);
+  const std::vector<double> two(2, 1.0), four(4, 1.0), twelve(12, 1.0);
   H5Frame f;
-  f.x = f.y = f.vx = f.vy = f.temperature = two.data();
-  f.segments = twelve.data();
-  f.wall_force = twelve.data();
-  f.wall_torque = f.wall_power = two.data();
+  f[FrameField::position] = f[FrameField::velocity] = four.data();
+  f[FrameField::temperature] = two.data();
+  f[FrameField::wall_segments] = twelve.data();
+  f[FrameField::wall_force] = twelve.data();
+  f[FrameField::wall_torque] = f[FrameField::wall_power] = two.data();
   {
     H5Frames h5(file.string(), layout);
     h5.write_constant({0.1, 0.2});

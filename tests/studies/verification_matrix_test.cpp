@@ -288,7 +288,7 @@ void run_rows(const std::string& scene, const std::string& events, const std::st
   CHECK(ran > 0);
 }
 
-bool is_alias(const IntegratorInfo& info) { return info.summary.rfind("alias of", 0) == 0; }
+bool is_alias(const IntegratorInfo& info) { return !info.alias_of.empty(); }
 
 }  // namespace
 
