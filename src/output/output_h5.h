@@ -1,11 +1,8 @@
 // result.h5: one frame per output time, written as the run goes (chunked, extendible datasets).
 // F frames, N particles, W walls, S wall segments; every dataset has a text attribute `units`.
-//   time              (F)          s
-//   position          (F x N x 3)  m      x, y, z = 0 (three components: ParaView's vectors)
-//   velocity          (F x N x 3)  m/s    the same
-//   angle             (F x N)      rad    zeros in scenes without rotation
-//   angular_velocity  (F x N)      rad/s  the same
-//   temperature       (F x N)      degC   thermal scenes only
+// The datasets of frames are those of frame_fields.h (time, position and velocity as (x, y, 0),
+// angle, angular_velocity, temperature in thermal scenes; wall_segments when a wall moves,
+// wall_force, wall_torque, wall_power with walls), each (F x ...). Written once:
 //   radius            (N)          m
 //   id                (N)          1      64-bit integers 0 .. N-1
 // and in scenes with walls:
@@ -15,9 +12,8 @@
 //   wall_of_segment   (S)          1      32-bit integers: the wall (index into wall_names)
 //   wall_connectivity (S x 2)      1      32-bit integers 2s, 2s + 1: segment s joins those of the
 //                                         2 S points (result.xdmf's polyline topology)
-//   wall_force        (F x W x 3)  N      what the particles exert on each wall (z = 0)
-//   wall_torque       (F x W)      N m    its torque about the wall's centre, counter-clockwise
-//   wall_power        (F x W)      W      the power the wall delivers to the particles
+//   (wall_force (F x W x 3) is what the particles exert on each wall, z = 0; wall_torque its
+//   torque about the wall's centre, counter-clockwise; wall_power the power the wall delivers)
 // and the tables case observers add at the end of a run (observers.h), e.g.
 //   impact_energy_histogram (W x B) 1, impact_energy_bin_edges (B + 1) J   (wall_impacts)
 // Attributes of the file: scene, integrator, dt, kiln_version, run_id, and with walls
