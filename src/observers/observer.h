@@ -1,14 +1,15 @@
 // Case quantities: what a standard case reports in summary.json beyond the energy ledger.
-// A scene asks for them by name (`report: [bounce_heights]`); each samples the state after
-// every step and writes its figures at the end.
+// A scene asks for them by name (`report: [bounce_heights]`, src/scene/observer_catalogue.h, which
+// lists each one's keys); each samples the state after every step and writes its figures at the end.
 #pragma once
+#include <cmath>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
-#include "src/output/output_h5.h"
 #include "src/base/snapshot.h"
+#include "src/output/output_h5.h"
 
 namespace kiln {
 
@@ -39,7 +40,9 @@ class ObserverState {
 class Observer {
  public:
   virtual ~Observer() = default;
-  virtual void sample(double /*t*/, const double* /*y*/) {}  // after every step; most need only the end
+  // After every step: no allocation or lookup here. Most observers need only the end.
+  virtual void sample(double /*t*/, const double* /*y*/) {}
+  // Writes exactly the keys the catalogue lists for it (src/scene/observer_catalogue.cpp).
   virtual void report(double t, const double* y, nlohmann::json& summary) = 0;
   // Tables for result.h5 (histograms and the like), written when the run ends.
   virtual void tables(std::vector<ResultTable>& /*out*/) const {}
@@ -47,25 +50,10 @@ class Observer {
   virtual void state(ObserverState& /*s*/) {}
 };
 
-struct Scene;
-
-const std::vector<std::string>& observer_names();
-// What `scene` lacks for the observer `name` ("a thermal scene", ...), or "" when it has all.
-std::string observer_needs(const std::string& name, const Scene& scene);
+// The observer of the catalogue's entry `name` (src/observers/observer_factory.cpp).
 std::unique_ptr<Observer> make_observer(const std::string& name, const DemSystem& system);
 
-// Observers of single cases, each in a file of its own (observe_*.cpp).
-std::unique_ptr<Observer> make_shear_observer(const DemSystem& system);  // N3
-std::string shear_observer_needs(const Scene& scene);
-std::unique_ptr<Observer> make_impact_observer(const DemSystem& system);  // C2
-std::unique_ptr<Observer> make_discharge_observer(const DemSystem& system);  // C3
-std::string discharge_observer_needs(const Scene& scene);
-
-// Heap figures from a settled pile (used by the `heap` observer, testable on its own).
-struct HeapShape {
-  double angle_left_deg = NAN, angle_right_deg = NAN, angle_deg = NAN;
-  double packing_fraction = NAN;
-};
-HeapShape measure_heap(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& r);
+// A figure as summary.json holds it: null when the case could not measure it (NaN).
+inline nlohmann::json number_or_null(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 }  // namespace kiln
