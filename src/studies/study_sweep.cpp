@@ -19,9 +19,8 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   if (o.points < 2) throw InputError("--points must be at least 2");
   const double t_end = o.t_end > 0 ? o.t_end : base.t_end;
   std::vector<std::string> quantities = o.quantities;
-  if (quantities.empty()) {  // defaults: the case's scalars, else the final positions
-    for (const std::string& q : study_quantities(base))
-      if (q != "position" && q != "velocity" && q != "temperature") quantities.push_back(q);
+  if (quantities.empty()) {  // defaults: the case's figures of merit, else the final positions
+    quantities = headline_quantities(base);
     if (quantities.empty()) quantities.push_back(base.thermal ? "temperature" : "position");
   }
   for (const std::string& q : quantities) check_quantity(base, q);
@@ -87,8 +86,7 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   nlohmann::json values = nlohmann::json::object();
   for (size_t qi = 0; qi < quantities.size(); ++qi) {
     const std::vector<StudyRun>& runs = per_quantity[qi];
-    const bool field = runs.front().value.size() > 1 ||
-                       quantities[qi] == "position" || quantities[qi] == "velocity" || quantities[qi] == "temperature";
+    const bool field = shape_of(base, quantities[qi]) != QuantityShape::number;  // or a list
     nlohmann::json column = nlohmann::json::array();
     for (const StudyRun& r : runs) {
       if (!r.failure.empty()) {

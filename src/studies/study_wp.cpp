@@ -40,8 +40,9 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
   const bool ensemble = o.seeds > 0;
   if (ensemble) {
     if (o.seeds < 2) throw InputError("--seeds needs at least 2 fills to estimate the noise floor");
-    if (o.quantity == "position" || o.quantity == "velocity" || o.quantity == "temperature")
-      throw InputError("--seeds compares ensemble means of a scalar; '" + o.quantity + "' is a field; available: " +
+    if (const QuantityShape shape = shape_of(base, o.quantity); shape != QuantityShape::number)
+      throw InputError("--seeds compares ensemble means of a scalar; '" + o.quantity + "' is a " +
+                       (shape == QuantityShape::field ? "field" : "list") + "; available: " +
                        choices_nearest_first(o.quantity, study_quantities(base)));
     o.reference = "ensemble";
     load_scene(o.scene, [&] { auto s = o.sets; s.push_back(o.seed_key + "=1"); return s; }());  // the key exists
