@@ -5,9 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
-#include <filesystem>
 #include <numeric>
 #include <string_view>
 #include <thread>
@@ -21,14 +18,12 @@
 #include "src/run/stability.h"
 #include "src/studies/exact_solutions.h"
 #include "src/base/nearest.h"
-#include "src/output/outputs.h"
 #include "src/scene/observer_catalogue.h"
 #include "src/scene/overrides.h"
 #include "src/base/progress.h"
 #include "src/scene/scene_yaml.h"
 #include "src/run/simulation.h"
 #include "src/studies/study_ranks.h"
-#include "src/base/subprocess.h"
 
 namespace kiln {
 
@@ -286,28 +281,6 @@ void require_a_result(const std::vector<StudyRun>& runs) {
     return;
   throw StudyError("every run of the study failed (" + std::to_string(runs.size()) + " runs); the first: " +
                    runs.front().failure);
-}
-
-nlohmann::json study_header(const Scene& scene, const std::string& quantity, const std::string& reference, double t_end) {
-  return {{"scene", scene.name},
-          {"quantity", quantity},
-          {"norm", "max abs over components"},
-          {"reference", reference},
-          {"t_end", t_end},
-          {"ranks", rank_count()},  // how it ran: the MPI processes (src/studies/study_ranks.h)
-          {"integrators", nlohmann::json::array()}};
-}
-
-void write_study(const std::string& dir, const std::string& name, const nlohmann::json& study, const std::string& csv) {
-  std::filesystem::create_directories(dir);
-  const std::string base = dir + "/" + name;
-  write_file_atomically(base + ".json", study.dump(2) + "\n");
-  write_file_atomically(base + ".csv", csv);
-  const ProgramResult plot = run_program(
-      {"/usr/bin/python3", std::string(KILN_SCRIPTS_DIR) + "/plot_study.py", name, base + ".json", base + ".png"});
-  if (plot.status != 0)
-    std::fprintf(stderr, "%swarning: %s.png not written (needs /usr/bin/python3 with matplotlib: apt-get install "
-                         "python3-matplotlib)\n", plot.errors.c_str(), name.c_str());
 }
 
 }  // namespace kiln

@@ -62,17 +62,11 @@ std::vector<double> study_reference(const Scene& scene, const std::string& path,
 // A study whose every run failed has no figure to report: StudyError naming the first run's reason.
 void require_a_result(const std::vector<StudyRun>& runs);
 
-// The fields every study's JSON opens with.
-nlohmann::json study_header(const Scene& scene, const std::string& quantity, const std::string& reference, double t_end);
-
 // Over the elements both have; NaN when there are none or one is NaN (a figure not measured).
 double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b);
 
 // The value of `quantity` at the end of a run: a field, or the summary's value at the catalogue
 // key's path (null, not measured: NaN).
 std::vector<double> quantity_value(const std::string& quantity, const FinalFields& fields, const nlohmann::json& summary);
-
-// Writes a study's JSON and CSV into dir, and its plot by scripts/plot_study.py (matplotlib).
-void write_study(const std::string& dir, const std::string& name, const nlohmann::json& study, const std::string& csv);
 
 }  // namespace kiln
