@@ -9,24 +9,13 @@
 #include <cmath>
 
 #include "src/dem/dem_system.h"
-#include "src/observers/observers.h"
+#include "src/observers/observer.h"
+#include "src/observers/statistics.h"
+#include "src/scene/scene_features.h"
 
 namespace kiln {
 
 namespace {
-
-// Least-squares slope of v against t over the samples [from, to) (at least two).
-double slope(const std::vector<double>& t, const std::vector<double>& v, size_t from, size_t to) {
-  const double n = static_cast<double>(to - from);
-  double st = 0, sv = 0, stt = 0, stv = 0;
-  for (size_t k = from; k < to; ++k) {
-    st += t[k];
-    sv += v[k];
-    stt += t[k] * t[k];
-    stv += t[k] * v[k];
-  }
-  return (n * stv - st * sv) / (n * stt - st * st);
-}
 
 // The discharge plane is the floor: the lowest wall vertex (a flat-bottomed bin's bottom). A disc
 // is discharged each time its centre passes down through that plane; in a cell periodic along y
@@ -37,29 +26,6 @@ double slope(const std::vector<double>& t, const std::vector<double>& v, size_t 
 // fallen into a bed and the flow has set in). Where discharged discs come back in (a cell periodic
 // along y: a constant head) it runs to the end; in a bin that drains it ends at 70 %, before the
 // last layers, whose rate falls with the head.
-// The floor's plane (the lowest wall vertex) and the orifice: the widest gap between the wall
-// segments lying in that plane (none: width NaN).
-struct Orifice {
-  double plane = INFINITY, width = NAN, centre = 0;
-};
-Orifice find_orifice(const std::vector<Segment>& segments) {
-  Orifice o;
-  for (const Segment& s : segments) o.plane = std::min({o.plane, s.a.y, s.b.y});
-  std::vector<std::pair<double, double>> floor;
-  for (const Segment& s : segments)
-    if (s.a.y == o.plane && s.b.y == o.plane) floor.push_back(std::minmax(s.a.x, s.b.x));
-  std::sort(floor.begin(), floor.end());
-  double reach = floor.empty() ? 0 : floor.front().second;
-  for (const auto& [lo, hi] : floor) {
-    if (lo > reach && (std::isnan(o.width) || lo - reach > o.width)) {
-      o.width = lo - reach;
-      o.centre = 0.5 * (lo + reach);
-    }
-    reach = std::max(reach, hi);
-  }
-  return o;
-}
-
 class DischargeObserver final : public Observer {
  public:
   explicit DischargeObserver(const DemSystem& sys) : sys_(sys), interval_(sys.scene().output_interval) {
@@ -99,8 +65,8 @@ class DischargeObserver final : public Observer {
     const size_t blocks = 8, samples = to - from;
     double rate = NAN, error = NAN, count_rate = NAN, density = NAN, packing = NAN;
     if (samples >= 2 * blocks) {
-      rate = slope(time_, mass_history_, from, to);
-      count_rate = slope(time_, count_history_, from, to);
+      rate = slope(mass_history_, from, to);
+      count_rate = slope(count_history_, from, to);
       density = packing = 0;
       for (size_t k = from; k < to; ++k) {
         density += density_[k] / static_cast<double>(samples);
@@ -115,17 +81,16 @@ class DischargeObserver final : public Observer {
       }
       error = std::sqrt(std::max(0.0, squares / blocks - std::pow(sum / blocks, 2)) / (blocks - 1));
     }
-    auto number = [](double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); };
-    out["discharge_rate"] = number(rate);
-    out["discharge_rate_error"] = number(error);
-    out["discharge_rate_count"] = number(count_rate);
+    out["discharge_rate"] = number_or_null(rate);
+    out["discharge_rate_error"] = number_or_null(error);
+    out["discharge_rate_count"] = number_or_null(count_rate);
     out["discharge_window"] =
         samples >= 2 * blocks ? nlohmann::json{time_[from], time_[to - 1]} : nlohmann::json(nullptr);
-    out["bulk_density"] = number(density);
-    out["bed_packing_fraction"] = number(packing);
+    out["bulk_density"] = number_or_null(density);
+    out["bed_packing_fraction"] = number_or_null(packing);
     out["mean_diameter"] = diameter_;
-    out["orifice_width"] = number(orifice_);
-    out["discharge_plane"] = number(plane_);
+    out["orifice_width"] = number_or_null(orifice_);
+    out["discharge_plane"] = number_or_null(plane_);
     out["discharged_mass"] = mass_;
     out["discharged_count"] = count_;
     out["discharge_history"] = {{"time", time_},
@@ -146,6 +111,12 @@ class DischargeObserver final : public Observer {
   }
 
  private:
+  // Least-squares slope of v against time over the samples [from, to).
+  double slope(const std::vector<double>& v, size_t from, size_t to) const {
+    LineFit fit;
+    for (size_t k = from; k < to; ++k) fit.add(time_[k], v[k]);
+    return fit.slope();
+  }
   // Which side of the plane a centre at height y lies on: 0 above, -1 below; periodic along y,
   // which image of the plane lies just below it (its continuous position counts the passes).
   long level(double y) const {
@@ -204,12 +175,6 @@ class DischargeObserver final : public Observer {
 
 std::unique_ptr<Observer> make_discharge_observer(const DemSystem& system) {
   return std::make_unique<DischargeObserver>(system);
-}
-
-std::string discharge_observer_needs(const Scene& scene) {
-  return std::isnan(find_orifice(scene.segments).width)
-             ? "a floor with an orifice (a gap between wall segments at the lowest wall height)"
-             : "";
 }
 
 }  // namespace kiln

@@ -12,7 +12,7 @@
 #include <cmath>
 
 #include "src/dem/dem_system.h"
-#include "src/observers/observers.h"
+#include "src/observers/observer.h"
 
 namespace kiln {
 

@@ -15,17 +15,12 @@
 #include <cmath>
 
 #include "src/dem/dem_system.h"
-#include "src/observers/observers.h"
+#include "src/observers/observer.h"
+#include "src/scene/scene_features.h"
 
 namespace kiln {
 
 namespace {
-
-int driven_wall(const Scene& scene) {
-  for (size_t w = 0; w < scene.walls.size(); ++w)
-    if (scene.walls[w].motion.kind == WallMotion::Kind::load_controlled) return static_cast<int>(w);
-  return -1;
-}
 
 class ShearObserver final : public Observer {
  public:
@@ -117,8 +112,10 @@ class ShearObserver final : public Observer {
   }
 
   void report(double, const double*, nlohmann::json& out) override {
-    if (span_ <= 0) {
-      out["shear_profile"] = nullptr;
+    if (span_ <= 0) {  // the window has not opened: nothing measured
+      for (const char* key : {"shear_profile", "shear_stress", "normal_stress", "effective_friction", "shear_rate",
+                              "inertial_number"})
+        out[key] = nullptr;
       return;
     }
     nlohmann::json eta = nlohmann::json::array(), v = nlohmann::json::array(), vr = nlohmann::json::array();
@@ -189,10 +186,6 @@ class ShearObserver final : public Observer {
 };
 
 }  // namespace
-
-std::string shear_observer_needs(const Scene& scene) {
-  return driven_wall(scene) >= 0 ? "" : "a load-controlled wall (the driven wall of the shear cell)";
-}
 
 std::unique_ptr<Observer> make_shear_observer(const DemSystem& system) { return std::make_unique<ShearObserver>(system); }
 

@@ -14,7 +14,7 @@
 //                                         2 S points (result.xdmf's polyline topology)
 //   (wall_force (F x W x 3) is what the particles exert on each wall, z = 0; wall_torque its
 //   torque about the wall's centre, counter-clockwise; wall_power the power the wall delivers)
-// and the tables case observers add at the end of a run (observers.h), e.g.
+// and the tables case observers add at the end of a run (src/observers/observer.h), e.g.
 //   impact_energy_histogram (W x B) 1, impact_energy_bin_edges (B + 1) J   (wall_impacts)
 // Attributes of the file: scene, integrator, dt, kiln_version, run_id, and with walls
 // wall_names (W variable-length UTF-8 strings, in the order of the walls).

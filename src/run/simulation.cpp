@@ -11,7 +11,7 @@
 #include "integrators/integrator.h"
 #include "src/dem/dem_system.h"
 #include "src/base/error.h"
-#include "src/observers/observers.h"
+#include "src/observers/observer.h"
 #include "src/scene/overrides.h"
 #include "src/base/progress.h"
 #include "src/output/run_outputs.h"

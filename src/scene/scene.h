@@ -156,7 +156,7 @@ struct Scene {
   double max_overlap_fraction = 0.5;  // instability check: overlap / smaller radius
   double stop_kinetic_energy = 0;     // stop early when kinetic energy falls below (J); 0 = never
   double stop_not_before = 0;         // ... but not before this time
-  std::vector<std::string> report;    // case quantities to compute (observers.cpp)
+  std::vector<std::string> report;    // case quantities to compute (observer_catalogue.h)
 };
 
 }  // namespace kiln

@@ -5,10 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
-#include <filesystem>
 #include <numeric>
+#include <string_view>
 #include <thread>
 #ifdef _OPENMP
 #include <omp.h>
@@ -20,26 +18,65 @@
 #include "src/run/stability.h"
 #include "src/studies/exact_solutions.h"
 #include "src/base/nearest.h"
-#include "src/output/outputs.h"
+#include "src/scene/observer_catalogue.h"
 #include "src/scene/overrides.h"
 #include "src/base/progress.h"
 #include "src/scene/scene_yaml.h"
 #include "src/run/simulation.h"
 #include "src/studies/study_ranks.h"
-#include "src/base/subprocess.h"
 
 namespace kiln {
+
+namespace {
+
+// The catalogue's key `quantity` among the observers `scene` reports, or nullptr.
+const ObserverKey* reported_key(const Scene& scene, const std::string& quantity) {
+  for (const std::string& r : scene.report)
+    for (const ObserverKey& k : find_observer(r)->keys)
+      if (k.path == quantity && k.kind != ObserverKey::Kind::text && k.written_in(scene)) return &k;
+  return nullptr;
+}
+
+// The values at `path` below `node` (src/scene/observer_catalogue.h): a member of an object, or
+// of every element of an array of objects (one per wall); null (not measured) is NaN.
+void collect(const nlohmann::json& node, std::string_view path, std::vector<double>& out) {
+  if (node.is_null()) {
+    out.push_back(NAN);
+  } else if (path.empty() && node.is_array()) {
+    for (const nlohmann::json& v : node) out.push_back(v.is_null() ? NAN : v.get<double>());
+  } else if (path.empty()) {
+    out.push_back(node.get<double>());
+  } else if (node.is_array()) {
+    for (const nlohmann::json& element : node) collect(element, path, out);
+  } else {
+    const size_t dot = path.find('.');
+    collect(node.at(std::string(path.substr(0, dot))), dot == path.npos ? "" : path.substr(dot + 1), out);
+  }
+}
+
+}  // namespace
 
 std::vector<std::string> study_quantities(const Scene& scene) {
   std::vector<std::string> q = {"position", "velocity"};
   if (scene.thermal) q.push_back("temperature");
-  for (const std::string& r : scene.report) {
-    if (r == "heap") q.insert(q.end(), {"heap_angle_deg", "packing_fraction"});
-    if (r == "mixing") q.insert(q.end(), {"mixing_index", "bed_tilt_deg"});
-    if (r == "incline_motion") q.insert(q.end(), {"incline_acceleration", "slip_ratio"});
-    if (r == "temperatures") q.insert(q.end(), {"temperature_mean", "temperature_std", "temperature_min", "temperature_max", "heat_content"});
-  }
+  for (const std::string& r : scene.report)
+    for (const ObserverKey& k : find_observer(r)->keys)
+      if (k.kind != ObserverKey::Kind::text && k.written_in(scene)) q.push_back(k.path);
   return q;
+}
+
+std::vector<std::string> headline_quantities(const Scene& scene) {
+  std::vector<std::string> q;
+  for (const std::string& r : scene.report)
+    for (const ObserverKey& k : find_observer(r)->keys)
+      if (k.headline && k.written_in(scene)) q.push_back(k.path);
+  return q;
+}
+
+QuantityShape shape_of(const Scene& scene, const std::string& quantity) {
+  const ObserverKey* k = reported_key(scene, quantity);
+  if (!k) return QuantityShape::field;
+  return k->kind == ObserverKey::Kind::number ? QuantityShape::number : QuantityShape::list;
 }
 
 std::string default_quantity(const Scene& scene, bool heat_stage) {
@@ -48,26 +85,38 @@ std::string default_quantity(const Scene& scene, bool heat_stage) {
 
 void check_quantity(const Scene& scene, const std::string& quantity) {
   const auto available = study_quantities(scene);
-  if (std::find(available.begin(), available.end(), quantity) == available.end())
-    throw InputError("unknown quantity '" + quantity + "' for scene '" + scene.name + "'; available: " +
-                     choices_nearest_first(quantity, available));
+  if (std::find(available.begin(), available.end(), quantity) != available.end()) return;
+  std::string reported_by;  // a case quantity of an observer the scene does not ask for
+  for (const ObserverEntry& e : observer_catalogue())
+    for (const ObserverKey& k : e.keys)
+      if (reported_by.empty() && k.path == quantity && k.kind != ObserverKey::Kind::text)
+        reported_by = " ('" + quantity + "' is reported by '" + e.name + "', which the scene's report: does not name)";
+  throw InputError("unknown quantity '" + quantity + "' for scene '" + scene.name + "'; available: " +
+                   choices_nearest_first(quantity, available) + reported_by);
 }
 
 double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  const size_t n = std::min(a.size(), b.size());
+  if (n == 0) return NAN;
   double worst = 0;
-  for (size_t k = 0; k < a.size() && k < b.size(); ++k) worst = std::max(worst, std::abs(a[k] - b[k]));
+  for (size_t k = 0; k < n; ++k) {
+    const double d = std::abs(a[k] - b[k]);
+    if (std::isnan(d)) return NAN;
+    worst = std::max(worst, d);
+  }
   return worst;
 }
 
-namespace {
-
-std::vector<double> quantity_of(const std::string& q, const FinalFields& f, const nlohmann::json& summary) {
-  if (q == "position") return f.position;
-  if (q == "velocity") return f.velocity;
-  if (q == "temperature") return f.temperature;
-  const nlohmann::json& v = summary.at(q);  // null when the case could not measure it (a heap too small)
-  return {v.is_null() ? NAN : v.get<double>()};
+std::vector<double> quantity_value(const std::string& quantity, const FinalFields& fields, const nlohmann::json& summary) {
+  if (quantity == "position") return fields.position;
+  if (quantity == "velocity") return fields.velocity;
+  if (quantity == "temperature") return fields.temperature;
+  std::vector<double> values;
+  collect(summary, quantity, values);
+  return values;
 }
+
+namespace {
 
 void run_one(const std::string& path, const std::vector<std::string>& base_sets, double t_end, const std::string& q,
              bool heat_stage, StudyRun& run) {
@@ -90,7 +139,7 @@ void run_one(const std::string& path, const std::vector<std::string>& base_sets,
       // every run).
       const nlohmann::json& cost = heat_stage ? s["integrator_stats"]["heat_stage"] : s;
       if (runs == 1 || k > 0) best = std::min(best, cost["wall_seconds"].get<double>());
-      run.value = quantity_of(q, fields, s);
+      run.value = quantity_value(q, fields, s);
       run.rhs_evals = cost["rhs_evals"].get<long>();
     }
     run.seconds = best;
@@ -232,28 +281,6 @@ void require_a_result(const std::vector<StudyRun>& runs) {
     return;
   throw StudyError("every run of the study failed (" + std::to_string(runs.size()) + " runs); the first: " +
                    runs.front().failure);
-}
-
-nlohmann::json study_header(const Scene& scene, const std::string& quantity, const std::string& reference, double t_end) {
-  return {{"scene", scene.name},
-          {"quantity", quantity},
-          {"norm", "max abs over components"},
-          {"reference", reference},
-          {"t_end", t_end},
-          {"ranks", rank_count()},  // how it ran: the MPI processes (src/studies/study_ranks.h)
-          {"integrators", nlohmann::json::array()}};
-}
-
-void write_study(const std::string& dir, const std::string& name, const nlohmann::json& study, const std::string& csv) {
-  std::filesystem::create_directories(dir);
-  const std::string base = dir + "/" + name;
-  write_file_atomically(base + ".json", study.dump(2) + "\n");
-  write_file_atomically(base + ".csv", csv);
-  const ProgramResult plot = run_program(
-      {"/usr/bin/python3", std::string(KILN_SCRIPTS_DIR) + "/plot_study.py", name, base + ".json", base + ".png"});
-  if (plot.status != 0)
-    std::fprintf(stderr, "%swarning: %s.png not written (needs /usr/bin/python3 with matplotlib: apt-get install "
-                         "python3-matplotlib)\n", plot.errors.c_str(), name.c_str());
 }
 
 }  // namespace kiln

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "src/run/simulation.h"
 #include "src/scene/scene.h"
 
 namespace kiln {
@@ -34,8 +35,16 @@ struct StudyRun {
 void run_study(const std::string& scene, const std::vector<std::string>& sets, double t_end, const std::string& quantity,
                std::vector<StudyRun>& runs, int threads, bool quiet = true, bool heat_stage = false);
 
-// Quantities a scene can be studied on: its state fields, then the scalars its report: adds.
+// Quantities a scene can be studied on: its state fields, then every number and list its report:
+// adds (the observer catalogue's keys, src/scene/observer_catalogue.h). A list (bounce heights,
+// layers, walls) is compared as the fields are, as a vector: max abs over its elements, over those
+// both runs have when their lengths differ.
 std::vector<std::string> study_quantities(const Scene& scene);
+// The case's figures of merit (the catalogue's headline keys), which `kiln sweep` studies by default.
+std::vector<std::string> headline_quantities(const Scene& scene);
+// What a valid quantity is: a state field, a list or one number (a case scalar).
+enum class QuantityShape { field, list, number };
+QuantityShape shape_of(const Scene& scene, const std::string& quantity);
 // What a study compares when no quantity is given: the temperatures of a scene whose mechanics are
 // frozen (its positions never move) or of a study of the heating stage, the positions otherwise.
 std::string default_quantity(const Scene& scene, bool heat_stage = false);
@@ -53,12 +62,11 @@ std::vector<double> study_reference(const Scene& scene, const std::string& path,
 // A study whose every run failed has no figure to report: StudyError naming the first run's reason.
 void require_a_result(const std::vector<StudyRun>& runs);
 
-// The fields every study's JSON opens with.
-nlohmann::json study_header(const Scene& scene, const std::string& quantity, const std::string& reference, double t_end);
-
+// Over the elements both have; NaN when there are none or one is NaN (a figure not measured).
 double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b);
 
-// Writes a study's JSON and CSV into dir, and its plot by scripts/plot_study.py (matplotlib).
-void write_study(const std::string& dir, const std::string& name, const nlohmann::json& study, const std::string& csv);
+// The value of `quantity` at the end of a run: a field, or the summary's value at the catalogue
+// key's path (null, not measured: NaN).
+std::vector<double> quantity_value(const std::string& quantity, const FinalFields& fields, const nlohmann::json& summary);
 
 }  // namespace kiln

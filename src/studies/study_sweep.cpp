@@ -1,14 +1,13 @@
 #include "src/studies/study_sweep.h"
 
 #include <cmath>
-#include <cstdio>
-#include <sstream>
 
 #include "integrators/integrator.h"
 #include "src/base/error.h"
 #include "src/scene/scene_yaml.h"
 #include "src/run/stability.h"
 #include "src/studies/study_ranks.h"
+#include "src/studies/study_report.h"
 #include "src/studies/study_runs.h"
 
 namespace kiln {
@@ -19,9 +18,8 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   if (o.points < 2) throw InputError("--points must be at least 2");
   const double t_end = o.t_end > 0 ? o.t_end : base.t_end;
   std::vector<std::string> quantities = o.quantities;
-  if (quantities.empty()) {  // defaults: the case's scalars, else the final positions
-    for (const std::string& q : study_quantities(base))
-      if (q != "position" && q != "velocity" && q != "temperature") quantities.push_back(q);
+  if (quantities.empty()) {  // defaults: the case's figures of merit, else the final positions
+    quantities = headline_quantities(base);
     if (quantities.empty()) quantities.push_back(base.thermal ? "temperature" : "position");
   }
   for (const std::string& q : quantities) check_quantity(base, q);
@@ -55,8 +53,8 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   }
   const StabilityEstimate est = estimate_stability(load_scene(o.scene, o.sets));
 
-  nlohmann::json out;
-  out["scene"] = base.name;
+  StudyReport report("sweep", {{"scene", base.name}});
+  nlohmann::json& out = report.json();
   out["integrator"] = o.integrator;
   out["t_end"] = t_end;
   out["ranks"] = rank_count();  // how it ran: the MPI processes (src/studies/study_ranks.h)
@@ -77,18 +75,16 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   const double limit = conduction_binds ? conduction_limit : est.dt_limit;
   const char* limit_kind = conduction_binds ? "explicit conduction" : "contacts";
   out["estimate"]["binding_limit"] = limit;
-  std::ostringstream csv, table;
-  csv << "dt,stable";
-  for (const std::string& q : quantities) csv << "," << q;
-  csv << "\n";
-  table << "     dt          stable";
-  for (const std::string& q : quantities) table << "  " << q;
-  table << "\n";
+  std::vector<std::string> header = {"dt", "stable"};
+  header.insert(header.end(), quantities.begin(), quantities.end());
+  report.csv_row(header);
+  report.table("     dt          stable");
+  for (const std::string& q : quantities) report.table("  %s", q.c_str());
+  report.table("\n");
   nlohmann::json values = nlohmann::json::object();
   for (size_t qi = 0; qi < quantities.size(); ++qi) {
     const std::vector<StudyRun>& runs = per_quantity[qi];
-    const bool field = runs.front().value.size() > 1 ||
-                       quantities[qi] == "position" || quantities[qi] == "velocity" || quantities[qi] == "temperature";
+    const bool field = shape_of(base, quantities[qi]) != QuantityShape::number;  // or a list
     nlohmann::json column = nlohmann::json::array();
     for (const StudyRun& r : runs) {
       if (!r.failure.empty()) {
@@ -106,29 +102,24 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   for (size_t k = 0; k < dts.size(); ++k) {
     const bool ok = first[k].failure.empty();
     out["stable"].push_back(ok);
-    char line[64];
-    std::snprintf(line, sizeof line, "  %12.4e  %-6s", dts[k], ok ? "yes" : first[k].unstable ? "no" : "error");
-    table << line;
-    csv << dts[k] << "," << (ok ? 1 : 0);
+    report.table("  %12.4e  %-6s", dts[k], ok ? "yes" : first[k].unstable ? "no" : "error");
+    std::vector<std::string> row = {csv_number(dts[k]), ok ? "1" : "0"};
     for (const std::string& q : quantities) {
       const auto& v = values[q][k];
-      std::snprintf(line, sizeof line, "  %12.5g", v.is_null() ? NAN : v.get<double>());
-      table << line;
-      csv << "," << (v.is_null() ? "" : std::to_string(v.get<double>()));
+      report.table("  %12.5g", v.is_null() ? NAN : v.get<double>());
+      row.push_back(v.is_null() ? "" : csv_exact(v.get<double>()));
     }
-    table << "\n";
-    csv << "\n";
+    report.table("\n");
+    report.csv_row(row);
   }
-  if (!o.quiet) {
-    std::printf("%s with %s to t = %g s (fields: difference from the smallest dt)\n\n%s\n", base.name.c_str(),
-                o.integrator.c_str(), t_end, table.str().c_str());
-    if (stable > 0 && unstable > 0)
-      std::printf("stability boundary between %.5g and %.5g s; the estimate's limit is %.5g s (%s; recommended %.3g s)\n",
-                  stable, unstable, limit, limit_kind, est.recommended_dt);
-    else
-      std::printf("no stability boundary inside the sweep; the estimate's limit is %.5g s (%s)\n", limit, limit_kind);
-  }
-  if (!o.out_dir.empty()) write_study(o.out_dir, "sweep", out, csv.str());
+  const std::string boundary =
+      stable > 0 && unstable > 0
+          ? format("stability boundary between %.5g and %.5g s; the estimate's limit is %.5g s (%s; recommended %.3g s)\n",
+                   stable, unstable, limit, limit_kind, est.recommended_dt)
+          : format("no stability boundary inside the sweep; the estimate's limit is %.5g s (%s)\n", limit, limit_kind);
+  report.publish(format("%s with %s to t = %g s (fields: difference from the smallest dt)\n\n", base.name.c_str(),
+                        o.integrator.c_str(), t_end),
+                 "\n" + boundary, o.out_dir, o.quiet);
   require_a_result(first);
   return out;
 }

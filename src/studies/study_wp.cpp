@@ -2,14 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
-#include <sstream>
 
 #include "src/base/error.h"
-#include "src/studies/exact_solutions.h"
 #include "src/base/nearest.h"
 #include "src/scene/overrides.h"
 #include "src/scene/scene_yaml.h"
+#include "src/studies/study_report.h"
 #include "src/studies/study_runs.h"
 
 namespace kiln {
@@ -40,8 +38,9 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
   const bool ensemble = o.seeds > 0;
   if (ensemble) {
     if (o.seeds < 2) throw InputError("--seeds needs at least 2 fills to estimate the noise floor");
-    if (o.quantity == "position" || o.quantity == "velocity" || o.quantity == "temperature")
-      throw InputError("--seeds compares ensemble means of a scalar; '" + o.quantity + "' is a field; available: " +
+    if (const QuantityShape shape = shape_of(base, o.quantity); shape != QuantityShape::number)
+      throw InputError("--seeds compares ensemble means of a scalar; '" + o.quantity + "' is a " +
+                       (shape == QuantityShape::field ? "field" : "list") + "; available: " +
                        choices_nearest_first(o.quantity, study_quantities(base)));
     o.reference = "ensemble";
     load_scene(o.scene, [&] { auto s = o.sets; s.push_back(o.seed_key + "=1"); return s; }());  // the key exists
@@ -83,7 +82,8 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
   }
   run_study(o.scene, o.sets, t_end, o.quantity, runs, o.threads, o.quiet, o.heat_stage);
 
-  nlohmann::json out = study_header(base, o.quantity, o.reference, t_end);
+  StudyReport report("wp", study_header(base, o.quantity, o.reference, t_end));
+  nlohmann::json& out = report.json();
   out["setting"] = adaptive ? "rtol" : "dt";
   out["repeats"] = o.repeats;
   if (o.reference == "fine") out["fine_rtol"] = o.fine_rtol;
@@ -92,17 +92,17 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
     out["reference_value"] = reference.front();
     out["reference_standard_error"] = reference_se;
   }
-  std::ostringstream csv, table;
-  csv << "integrator," << (adaptive ? "rtol" : "dt") << ",error," << (ensemble ? "noise," : "")
-      << "wall_seconds,rhs_evals\n";
+  std::vector<std::string> header = {"integrator", adaptive ? "rtol" : "dt", "error", "wall_seconds", "rhs_evals"};
+  if (ensemble) header.insert(header.begin() + 3, "noise");
+  report.csv_row(header);
   for (size_t i = 0; i < o.integrators.size(); ++i) {
     nlohmann::json entry;
     entry["name"] = o.integrators[i];
     entry[adaptive ? "rtol" : "dt"] = settings;
     nlohmann::json errors = nlohmann::json::array(), noise = nlohmann::json::array(),
                    seconds = nlohmann::json::array(), evals = nlohmann::json::array();
-    table << o.integrators[i] << "\n   " << (adaptive ? "rtol" : "dt  ") << "          error"
-          << (ensemble ? "      +- noise" : "") << "          seconds     rhs evals\n";
+    report.table("%s\n   %s          error%s          seconds     rhs evals\n", o.integrators[i].c_str(),
+                 adaptive ? "rtol" : "dt  ", ensemble ? "      +- noise" : "");
     for (size_t k = 0; k < settings.size(); ++k) {
       const size_t first = (i * settings.size() + k) * members;
       bool failed = false, unstable = false;
@@ -114,13 +114,12 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
         wall += r.seconds / members;  // cost of one run
         rhs += static_cast<double>(r.rhs_evals) / members;
       }
-      char line[200];
       if (failed) {
         errors.push_back(nullptr);
         noise.push_back(nullptr);
         seconds.push_back(nullptr);
         evals.push_back(nullptr);
-        std::snprintf(line, sizeof line, "  %12.4e   failed (%s)\n", settings[k], unstable ? "unstable" : "error");
+        report.table("  %12.4e   failed (%s)\n", settings[k], unstable ? "unstable" : "error");
       } else {
         double e, n = 0;
         if (ensemble) {
@@ -134,15 +133,14 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
         noise.push_back(n);
         seconds.push_back(wall);
         evals.push_back(std::lround(rhs));
-        if (ensemble)
-          std::snprintf(line, sizeof line, "  %12.4e   %12.4e   %10.3e   %10.4g   %10ld\n", settings[k], e, n, wall,
-                        std::lround(rhs));
-        else
-          std::snprintf(line, sizeof line, "  %12.4e   %12.4e   %10.4g   %10ld\n", settings[k], e, wall, std::lround(rhs));
-        csv << o.integrators[i] << "," << settings[k] << "," << e << "," << (ensemble ? std::to_string(n) + "," : "")
-            << wall << "," << std::lround(rhs) << "\n";
+        const std::string noise_cell = ensemble ? format("   %10.3e", n) : "";
+        report.table("  %12.4e   %12.4e%s   %10.4g   %10ld\n", settings[k], e, noise_cell.c_str(), wall,
+                     std::lround(rhs));
+        std::vector<std::string> row = {o.integrators[i], csv_number(settings[k]), csv_number(e), csv_number(wall),
+                                        std::to_string(std::lround(rhs))};
+        if (ensemble) row.insert(row.begin() + 3, csv_number(n));
+        report.csv_row(row);
       }
-      table << line;
     }
     entry["error"] = errors;
     if (ensemble) entry["noise"] = noise;
@@ -150,18 +148,14 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
     entry["rhs_evals"] = evals;
     out["integrators"].push_back(entry);
   }
-  if (!o.quiet)
-  {
-    std::printf("%s on %s at t = %g s, reference %s; cost: minimum wall time of %d runs after a warm-up\n",
-                o.quantity.c_str(), base.name.c_str(), t_end, o.reference.c_str(), o.repeats);
-    if (ensemble)
-      std::printf("ensemble of %d fills (%s = 1..%d): error of the mean, reference %.6g +- %.3g (%s at "
-                  "%s); noise: standard error of the difference\n",
-                  o.seeds, o.seed_key.c_str(), o.seeds, reference.front(), reference_se, o.integrators.front().c_str(),
-                  adaptive ? "a tenth of the smallest rtol" : "half the smallest dt");
-    std::printf("\n%s", table.str().c_str());
-  }
-  if (!o.out_dir.empty()) write_study(o.out_dir, "wp", out, csv.str());
+  std::string heading = format("%s on %s at t = %g s, reference %s; cost: minimum wall time of %d runs after a warm-up\n",
+                               o.quantity.c_str(), base.name.c_str(), t_end, o.reference.c_str(), o.repeats);
+  if (ensemble)
+    heading += format("ensemble of %d fills (%s = 1..%d): error of the mean, reference %.6g +- %.3g (%s at "
+                      "%s); noise: standard error of the difference\n",
+                      o.seeds, o.seed_key.c_str(), o.seeds, reference.front(), reference_se,
+                      o.integrators.front().c_str(), adaptive ? "a tenth of the smallest rtol" : "half the smallest dt");
+  report.publish(heading + "\n", "", o.out_dir, o.quiet);
   require_a_result(runs);
   return out;
 }

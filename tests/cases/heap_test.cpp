@@ -2,7 +2,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "src/observers/observers.h"
+#include "src/observers/heap_shape.h"
 #include "src/scene/scene_yaml.h"
 #include "src/run/simulation.h"
 #include "tests/support.h"

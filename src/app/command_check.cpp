@@ -1,0 +1,70 @@
+// `kiln check`: a scene validated, and its time-step estimates (src/run/stability.h).
+#include <cmath>
+#include <cstdio>
+
+#include "integrators/integrator.h"
+#include "src/app/command.h"
+#include "src/app/command_options.h"
+#include "src/base/error.h"
+#include "src/run/stability.h"
+
+namespace kiln {
+
+namespace {
+
+class CheckCommand final : public Command {
+ public:
+  explicit CheckCommand(CLI::App& app)
+      : Command(app.add_subcommand("check", "validate a scene and print its time-step estimates")) {
+    add_scene_options(cli_, scene_args_);
+    cli_->get_option("scene")->required();
+  }
+
+  int run() override {
+    const SceneArgs& a = scene_args_;
+    const Scene scene = load(a);
+    const StabilityEstimate est = estimate_stability(scene);
+    std::printf("scene %s: %d particles, %zu wall segments, integrator %s, dt %.4g s\n", scene.name.c_str(),
+                scene.n_particles(), scene.segments.size(), scene.integrator.c_str(), scene.dt);
+    if (scene.frozen) {
+      std::printf("  mechanics frozen: no mechanical time step\n");
+    } else {
+      std::printf("  shortest contact duration  %.4g s (%s); dt is 1/%.1f of it\n", est.contact_duration,
+                  est.shortest_pair.c_str(), est.contact_duration / scene.dt);
+      std::printf("  stability limit of dt      %.4g s (central difference on the stiffest contact%s)\n", est.dt_limit,
+                  scene.n_particles() >= 2 ? ", a disc between two: / sqrt 2" : "");
+      if (std::isfinite(est.rayleigh))
+        std::printf("  Rayleigh time step         %.4g s (smallest particle); dt is %.1f %% of it\n", est.rayleigh,
+                    100 * scene.dt / est.rayleigh);
+      else
+        std::printf("  Rayleigh time step         n/a (no youngs_modulus given)\n");
+      std::printf("  recommended dt             %.4g s (contact duration / 50)\n", est.recommended_dt);
+    }
+    if (scene.thermal) {
+      std::printf("  explicit conduction limit  %.4g s (2 / lambda_max, contact network at t = 0)",
+                  est.thermal_dt_limit_network);
+      if (!scene.frozen) std::printf(", %.4g s (dense packing at 1 %% overlap)", est.thermal_dt_limit);
+      const double reach = real_stability_of(scene.integrator);
+      if (std::isinf(reach))
+        std::printf("\n  %-26s none (conduction implicit)", (scene.integrator + "'s limit").c_str());
+      else if (reach != 2)
+        std::printf("\n  %-26s %.4g s (%.4g / lambda_max: the table's reach on the negative real axis)",
+                    (scene.integrator + "'s limit").c_str(), reach / 2 * est.thermal_dt_limit_network, reach);
+      std::printf("\n  thermal relaxation time    %.4g s (fastest mode, 1 / lambda_max)\n", est.thermal_relaxation_time);
+    }
+    std::fflush(stdout);  // the verdict goes to stderr, after the table
+    const DtVerdict verdict = judge_dt(est, scene.dt, scene);
+    for (const std::string& w : verdict.warnings)
+      std::fprintf(stderr, "%s: %s\n", verdict.unstable ? "error" : "warning", w.c_str());
+    return verdict.unstable ? exit_refused : exit_success;
+  }
+
+ private:
+  SceneArgs scene_args_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> add_check_command(CLI::App& app) { return std::make_unique<CheckCommand>(app); }
+
+}  // namespace kiln

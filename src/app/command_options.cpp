@@ -1,0 +1,54 @@
+#include "src/app/command_options.h"
+
+#include <cmath>
+
+#include "integrators/integrator.h"
+#include "src/scene/overrides.h"
+#include "src/scene/scene_yaml.h"
+
+namespace kiln {
+
+const CLI::Validator positive_finite(
+    [](std::string& text) {
+      try {
+        size_t used = 0;
+        const double v = std::stod(text, &used);
+        if (used == text.size() && std::isfinite(v) && v > 0) return std::string();
+      } catch (const std::exception&) {
+      }
+      return "must be a positive finite number, got '" + text + "'";
+    },
+    "POSITIVE");
+
+std::vector<std::string> overrides_of(const SceneArgs& a) {
+  std::vector<std::string> sets = a.sets;
+  if (!a.integrator.empty()) sets.push_back("integrator=" + a.integrator);
+  if (a.dt > 0) sets.push_back(assignment("dt", a.dt));
+  if (a.t_end > 0) sets.push_back(assignment("t_end", a.t_end));
+  if (a.rtol > 0) sets.push_back(assignment("rtol", a.rtol));
+  if (a.atol > 0) sets.push_back(assignment("atol", a.atol));
+  if (a.contact_events) sets.push_back("contact_events=true");
+  return sets;
+}
+
+Scene load(const SceneArgs& a) {
+  Scene scene = load_scene(a.path, overrides_of(a));
+  make_integrator(scene.integrator, scene.control);
+  return scene;
+}
+
+void add_scene_options(CLI::App* cmd, SceneArgs& a) {
+  cmd->add_option("scene", a.path, "scene file (YAML)")->check(CLI::ExistingFile);
+  cmd->add_option("--integrator", a.integrator, "integrator name (see 'kiln integrators')");
+  cmd->add_option("--dt", a.dt, "time step (s)")->check(positive_finite);
+  cmd->add_option("--t-end", a.t_end, "end time (s)")->check(positive_finite);
+  cmd->add_option("--rtol", a.rtol, "relative tolerance: adaptive steps from --dt (erk:/imex: methods)")
+      ->check(positive_finite);
+  cmd->add_option("--atol", a.atol, "absolute tolerance (per field: --set atol.temperature=...)")
+      ->check(positive_finite);
+  cmd->add_flag("--contact-events", a.contact_events,
+                "lock the acting contacts within a step, locate onsets and releases, restart there (ARKODE)");
+  cmd->add_option("--set", a.sets, "override a scene value by dotted path: KEY=VALUE")->take_all();
+}
+
+}  // namespace kiln

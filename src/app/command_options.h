@@ -1,0 +1,31 @@
+// The options several commands share: positive numbers, and the scene with its overrides (kiln run
+// and kiln check).
+#pragma once
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+#include "src/scene/scene.h"
+
+namespace kiln {
+
+// A time, a step or a tolerance: a positive finite number. CLI11's PositiveNumber accepts "nan"
+// (which then was ignored) and states its range as 300 digits.
+extern const CLI::Validator positive_finite;
+
+struct SceneArgs {
+  std::string path;
+  std::string integrator;
+  double dt = 0, t_end = 0, rtol = 0, atol = 0;
+  bool contact_events = false;
+  std::vector<std::string> sets;
+};
+
+// Command-line options become --set overrides, so they pass through the same checks as the file.
+std::vector<std::string> overrides_of(const SceneArgs& a);
+// The scene with its overrides, its integrator known (an unknown name fails before anything runs).
+Scene load(const SceneArgs& a);
+void add_scene_options(CLI::App* cmd, SceneArgs& a);
+
+}  // namespace kiln

@@ -1,0 +1,48 @@
+// `kiln plot`: the case quantities of a run over time into DIR/plots.png (scripts/plot_case.py).
+#include <cstdio>
+#include <filesystem>
+
+#include "src/app/command.h"
+#include "src/base/error.h"
+#include "src/base/subprocess.h"
+
+namespace kiln {
+
+namespace {
+
+class PlotCommand final : public Command {
+ public:
+  explicit PlotCommand(CLI::App& app)
+      : Command(app.add_subcommand(
+            "plot", "plot a run's case quantities over time (DIR/summary.json, DIR/result.h5) into DIR/plots.png")) {
+    cli_->add_option("dir", dir_, "the output directory of a run")->required()->check(CLI::ExistingDirectory);
+    cli_->add_flag("--quiet", quiet_, "no closing line");
+  }
+
+  int run() override {
+    const std::string summary = (std::filesystem::path(dir_) / "summary.json").string();
+    if (!std::filesystem::exists(summary))
+      throw InputError("kiln plot: " + summary + " not found: give the output directory of a run (kiln run "
+                       "SCENE --out DIR)");
+    const ProgramResult r =
+        run_program({"/usr/bin/python3", std::string(KILN_SCRIPTS_DIR) + "/plot_case.py", dir_});
+    std::fprintf(stderr, "%s", r.errors.c_str());  // the script's warnings and errors
+    if (r.status != 0) {
+      std::fprintf(stderr, "error: %s/plots.png not written (it needs Debian's /usr/bin/python3 with matplotlib and "
+                           "h5py: apt-get install python3-matplotlib python3-h5py)\n", dir_.c_str());
+      return exit_output_failed;
+    }
+    if (!quiet_) std::printf("plots: %s/plots.png\n", dir_.c_str());
+    return exit_success;
+  }
+
+ private:
+  std::string dir_;
+  bool quiet_ = false;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> add_plot_command(CLI::App& app) { return std::make_unique<PlotCommand>(app); }
+
+}  // namespace kiln

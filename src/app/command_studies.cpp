@@ -1,0 +1,110 @@
+// `kiln order`, `kiln sweep` and `kiln wp`: the studies of integrators on a scene
+// (src/studies/), which share their options, their output directory and the ranks of mpirun.
+#include "src/app/command.h"
+#include "src/app/command_options.h"
+#include "src/base/error.h"
+#include "src/scene/scene_yaml.h"
+#include "src/studies/study_order.h"
+#include "src/studies/study_ranks.h"
+#include "src/studies/study_sweep.h"
+#include "src/studies/study_wp.h"
+
+namespace kiln {
+
+namespace {
+
+template <class Options>
+class StudyCommand final : public Command {
+ public:
+  using Study = nlohmann::json (*)(const Options&);
+  // The options every study shares: the scene, its overrides, end time, output, threads.
+  StudyCommand(CLI::App& app, const char* name, const char* summary, Study study)
+      : Command(app.add_subcommand(name, summary)), name_(name), study_(study) {
+    cli_->add_option("scene", o_.scene, "scene file (YAML)")->required()->check(CLI::ExistingFile);
+    cli_->add_option("--t-end", o_.t_end, "end time (s); default the scene's")->check(positive_finite);
+    cli_->add_option("--out", o_.out_dir, std::string("output directory (default out/<scene name>/") + name + ")");
+    cli_->add_option("--threads", o_.threads, "worker threads")->check(CLI::Range(1, 1024));
+    cli_->add_option("--set", o_.sets, "override a scene value: KEY=VALUE")->take_all();
+    cli_->add_flag("--quiet", o_.quiet, "no table and no progress");
+    cli_->add_flag("--heat-stage", o_.heat_stage,
+                   "vary the frozen heating stage (freeze.integrator, freeze.dt); the settling keeps the scene's");
+  }
+  CLI::App* cli() { return cli_; }
+  Options& options() { return o_; }
+
+  // Under mpirun the study's runs are spread over the ranks (src/studies/study_ranks.h), and rank 0
+  // alone prints and writes, into out/<scene name>/<study> unless --out says otherwise. Every exit
+  // from here on goes through finish_ranks (main's too), so that no rank waits for one that has failed.
+  int run() override {
+    start_ranks();
+    if (o_.out_dir.empty()) o_.out_dir = "out/" + load_scene(o_.scene, o_.sets).name + "/" + name_;
+    if (this_rank() != 0) {
+      o_.out_dir.clear();
+      o_.quiet = true;
+    }
+    study_(o_);
+    return finish_ranks(exit_success, "");
+  }
+
+ private:
+  std::string name_;
+  Study study_;
+  Options o_;
+};
+
+}  // namespace
+
+std::unique_ptr<Command> add_order_command(CLI::App& app) {
+  auto command = std::make_unique<StudyCommand<OrderOptions>>(
+      app, "order", "observed orders of integrators on a scene (order.json, .csv, .png)", run_order_study);
+  CLI::App* cli = command->cli();
+  OrderOptions& o = command->options();
+  cli->add_option("--integrators", o.integrators, "comma-separated names (see 'kiln integrators')")
+      ->required()
+      ->delimiter(',');
+  cli->add_option("--dt", o.dt, "the coarsest step (s)")->required()->check(positive_finite);
+  cli->add_option("--levels", o.levels, "number of step sizes")->check(CLI::Range(2, 30));
+  cli->add_option("--ratio", o.ratio, "dt_{k+1} = dt_k / ratio (default 2)")->check(CLI::Range(1.01, 1000.0));
+  cli->add_option("--quantity", o.quantity,
+                  "position, velocity, temperature or a case quantity (default: temperature on a frozen scene, "
+                  "else position)");
+  cli->add_option("--reference", o.reference, "analytic | richardson | fine");
+  cli->add_option("--fine-rtol", o.fine_rtol, "tolerance of the fine reference (default 1e-11)")
+      ->check(positive_finite);
+  return command;
+}
+
+std::unique_ptr<Command> add_sweep_command(CLI::App& app) {
+  auto command = std::make_unique<StudyCommand<SweepOptions>>(
+      app, "sweep", "time-step sensitivity and stability boundary (sweep.json, .csv, .png)", run_sweep_study);
+  CLI::App* cli = command->cli();
+  SweepOptions& o = command->options();
+  cli->add_option("--integrator", o.integrator, "integrator name")->required();
+  cli->add_option("--dt-min", o.dt_min, "smallest step (s)")->required()->check(positive_finite);
+  cli->add_option("--dt-max", o.dt_max, "largest step (s)")->required()->check(positive_finite);
+  cli->add_option("--points", o.points, "steps, log-spaced")->check(CLI::Range(2, 200));
+  cli->add_option("--quantity", o.quantities, "quantities (default: the case's)")->take_all();
+  return command;
+}
+
+std::unique_ptr<Command> add_wp_command(CLI::App& app) {
+  auto command = std::make_unique<StudyCommand<WorkPrecisionOptions>>(
+      app, "wp", "work-precision: error against cost (wp.json, .csv, .png)", run_work_precision);
+  CLI::App* cli = command->cli();
+  WorkPrecisionOptions& o = command->options();
+  cli->add_option("--integrators", o.integrators, "comma-separated names")->required()->delimiter(',');
+  cli->add_option("--dts", o.dts, "fixed steps (s)")->delimiter(',')->check(positive_finite);
+  cli->add_option("--rtols", o.rtols, "tolerances (adaptive)")->delimiter(',')->check(positive_finite);
+  cli->add_option("--quantity", o.quantity,
+                  "position, velocity, temperature or a case quantity (default: temperature on a frozen scene, "
+                  "else position)");
+  cli->add_option("--reference", o.reference, "analytic | fine");
+  cli->add_option("--fine-rtol", o.fine_rtol, "tolerance of the fine reference (default 1e-11)")
+      ->check(positive_finite);
+  cli->add_option("--seeds", o.seeds, "chaotic scenes: average a scalar over this many fills (noise floor shown)");
+  cli->add_option("--seed-key", o.seed_key, "the key --seeds varies (default particles.0.fill.seed)");
+  cli->add_option("--repeats", o.repeats, "timed runs after a warm-up")->check(CLI::Range(1, 1000));
+  return command;
+}
+
+}  // namespace kiln

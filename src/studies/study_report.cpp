@@ -1,0 +1,85 @@
+#include "src/studies/study_report.h"
+
+#include <charconv>
+#include <cstdarg>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "src/base/atomic_write.h"
+#include "src/base/subprocess.h"
+#include "src/studies/study_ranks.h"
+
+namespace kiln {
+
+namespace {
+
+std::string vformat(const char* format, va_list args) {
+  va_list again;
+  va_copy(again, args);
+  const int n = std::vsnprintf(nullptr, 0, format, args);
+  std::string s(n > 0 ? n : 0, '\0');
+  std::vsnprintf(s.data(), s.size() + 1, format, again);
+  va_end(again);
+  return s;
+}
+
+}  // namespace
+
+std::string format(const char* format, ...) {
+  va_list args;
+  va_start(args, format);
+  std::string s = vformat(format, args);
+  va_end(args);
+  return s;
+}
+
+std::string csv_number(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+std::string csv_exact(double v) {
+  char text[32];
+  return std::string(text, std::to_chars(text, text + sizeof text, v).ptr);
+}
+
+void StudyReport::csv_row(const std::vector<std::string>& cells) {
+  for (size_t k = 0; k < cells.size(); ++k) csv_ += (k > 0 ? "," : "") + cells[k];
+  csv_ += "\n";
+}
+
+void StudyReport::table(const char* format, ...) {
+  va_list args;
+  va_start(args, format);
+  table_ += vformat(format, args);
+  va_end(args);
+}
+
+void StudyReport::publish(const std::string& heading, const std::string& footer, const std::string& out_dir,
+                          bool quiet) const {
+  if (!quiet) std::printf("%s%s%s", heading.c_str(), table_.c_str(), footer.c_str());
+  if (out_dir.empty()) return;
+  std::filesystem::create_directories(out_dir);
+  const std::string base = out_dir + "/" + kind_;
+  write_file_atomically(base + ".json", json_.dump(2) + "\n");
+  write_file_atomically(base + ".csv", csv_);
+  const ProgramResult plot = run_program(
+      {"/usr/bin/python3", std::string(KILN_SCRIPTS_DIR) + "/plot_study.py", kind_, base + ".json", base + ".png"});
+  if (plot.status != 0)
+    std::fprintf(stderr, "%swarning: %s.png not written (needs /usr/bin/python3 with matplotlib: apt-get install "
+                         "python3-matplotlib)\n", plot.errors.c_str(), kind_.c_str());
+}
+
+nlohmann::json study_header(const Scene& scene, const std::string& quantity, const std::string& reference, double t_end) {
+  return {{"scene", scene.name},
+          {"quantity", quantity},
+          {"norm", "max abs over components"},
+          {"reference", reference},
+          {"t_end", t_end},
+          {"ranks", rank_count()},  // how it ran: the MPI processes (src/studies/study_ranks.h)
+          {"integrators", nlohmann::json::array()}};
+}
+
+}  // namespace kiln
