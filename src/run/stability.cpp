@@ -86,11 +86,11 @@ void thermal_estimate(const Scene& scene, const std::vector<double>& rmin, const
     for (int a = 0; a < nm; ++a)
       for (int b = 0; b < nm; ++b) {
         if (!count[a] || !count[b]) continue;
-        const ContactCoefficients law = contact_coefficients(scene, a, b);
+        const ContactCoefficients pair = contact_coefficients(scene, a, b);
         const double ra = rmin[a], rb = rmin[b], overlap = 0.01 * std::min(ra, rb);
-        const double k = law.normal_stiffness(ra * rb / (ra + rb));
-        const double fn = contact::normal_force({k, 0, law.hertz, true}, overlap, 0);
-        const double h = thermal::conductance(law.conduction, ra, rb, ra + rb - overlap, fn);
+        const double k = pair.normal_stiffness(ra * rb / (ra + rb));
+        const double fn = contact::normal_force({k, 0, pair.law.model, true}, overlap, 0);
+        const double h = thermal::conductance(pair.conduction, ra, rb, ra + rb - overlap, fn);
         const Material& ma = scene.materials[a];
         const double c = disc_mass(scene, ra, ma.density) * ma.specific_heat;
         lambda = std::max(lambda, 2 * 6 * h / c);
@@ -122,20 +122,9 @@ StabilityEstimate estimate_stability(const Scene& scene) {
   // frictional T3 pile and T6 drum hold to 1.6 times it, docs/studies.md.)
   const bool packed = scene.n_particles() >= 2;
   auto consider = [&](int a, int b, double m_eff, double r_eff, double speed, const std::string& label) {
-    const ContactCoefficients law = contact_coefficients(scene, a, b);
-    const contact::NormalLaw nl = law.normal_law(m_eff, r_eff);
-    double duration, omega;
-    if (nl.hertz) {
-      duration = contact::hertz_contact_duration(nl.k, m_eff, speed);
-      const double max_overlap = std::pow(1.25 * m_eff * speed * speed / nl.k, 0.4);
-      omega = std::sqrt(1.5 * nl.k * std::sqrt(max_overlap) / m_eff);
-    } else {
-      duration = contact::linear_contact_duration(nl.k, nl.c, m_eff);
-      omega = std::sqrt(nl.k / m_eff);
-      // Central-difference limit of a damped oscillator: 2 (sqrt(1 + zeta^2) - zeta) / omega.
-      const double zeta = nl.c / (2 * std::sqrt(m_eff * nl.k));
-      omega /= std::sqrt(1 + zeta * zeta) - zeta;
-    }
+    const contact::NormalLaw nl = contact_coefficients(scene, a, b).normal_law(m_eff, r_eff);
+    const double duration = contact::contact_duration(nl, m_eff, speed);
+    const double omega = contact::limiting_frequency(nl, m_eff, speed);
     if (duration < est.contact_duration) {
       est.contact_duration = duration;
       est.shortest_pair = label;
@@ -169,10 +158,10 @@ StabilityEstimate estimate_stability(const Scene& scene) {
       const double m_eff = std::isfinite(m_wall) ? mass_a * m_wall / (mass_a + m_wall) : mass_a;
       consider(a, w.material, m_eff, rmin[a], speeds.wall, ma.name + "-wall(" + w.name + ")");
     }
-    if (ma.youngs_modulus > 0) {
-      const double shear = ma.youngs_modulus / (2 * (1 + ma.poisson_ratio));
+    if (ma.contact.youngs_modulus > 0) {
+      const double shear = ma.contact.youngs_modulus / (2 * (1 + ma.contact.poisson_ratio));
       est.rayleigh = std::min(est.rayleigh, M_PI * rmin[a] * std::sqrt(ma.density / shear) /
-                                                (0.1631 * ma.poisson_ratio + 0.8766));
+                                                (0.1631 * ma.contact.poisson_ratio + 0.8766));
     }
   }
   est.recommended_dt = est.contact_duration / 50;

@@ -18,6 +18,8 @@ namespace kiln::scene_parts {
 
 // Every documented key, by the schema path of its map (scene_schema.cpp).
 const KeySchema& scene_schema();
+// The keys of a `contacts:` entry: those every law reads and those of each model (read_laws.cpp).
+std::vector<std::string> contact_entry_keys();
 
 // Checked values (scene_values.cpp).
 double length(const SceneNode& node);  // in [1e-9, 1e6] m
