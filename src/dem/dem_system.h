@@ -164,7 +164,7 @@ class DemSystem final : public OdeSystem {
   // The velocity of wall w's point `p` at time t in state y: its driven motion plus, for a
   // load-controlled wall, the speed of its free coordinate.
   Vec2 wall_point_velocity(int w, Vec2 p, double t, const double* y) const {
-    return wall_velocity_at(scene_.walls[w].motion, p, t) + body_velocity(w, y);
+    return scene_.walls[w].motion.velocity_at(p, t) + body_velocity(w, y);
   }
   Vec2 body_velocity(int w, const double* y) const;  // the free coordinate's part alone
   const Scene& scene() const { return scene_; }

@@ -16,7 +16,8 @@ namespace {
 
 // The highest speeds at which a disc can meet a wall and another disc: a disc moves at most at its
 // largest initial speed (random_velocity included) plus a free fall over the scene's height along
-// g plus a moving wall's speed (a wall pushes it), and two discs can approach each other at twice
+// g plus the largest speed of a moving wall (a wall pushes it: WallMotion::largest_speed, a
+// load-controlled wall's driven speed included), and two discs can approach each other at twice
 // that. Speeds are taken with hypot, which does not overflow below 1.8e308; a bound that is still
 // not finite (speeds or g near the largest double) is refused by judge_dt.
 struct ImpactSpeeds {
@@ -34,16 +35,13 @@ ImpactSpeeds impact_speeds(const Scene& scene) {
     hi = std::max(hi, dot(scene.position[i], down));
     v0 = std::max(v0, speed(scene.velocity[i]));
   }
-  double wall_speed = 0;
   for (const Segment& s : scene.segments) {
     lo = std::min({lo, dot(s.a, down), dot(s.b, down)});
     hi = std::max({hi, dot(s.a, down), dot(s.b, down)});
-    const WallMotion& m = scene.walls[s.wall].motion;
-    if (m.kind == WallMotion::Kind::translate) wall_speed = std::max(wall_speed, speed(m.velocity));
-    if (m.kind == WallMotion::Kind::rotate)
-      wall_speed = std::max(
-          {wall_speed, std::abs(m.omega) * speed(s.a - m.centre), std::abs(m.omega) * speed(s.b - m.centre)});
   }
+  double wall_speed = 0;
+  for (size_t w = 0; w < scene.walls.size(); ++w)
+    wall_speed = std::max(wall_speed, scene.walls[w].motion.largest_speed(scene.segments, static_cast<int>(w)));
   const double fall = std::sqrt(2 * g) * std::sqrt(std::max(0.0, hi - lo));
   const double disc = v0 + fall + wall_speed;
   return {std::max(disc, 1e-3), std::max(2 * disc, 1e-3)};
@@ -147,7 +145,7 @@ StabilityEstimate estimate_stability(const Scene& scene) {
     for (size_t wi = 0; wi < scene.walls.size(); ++wi) {
       const Wall& w = scene.walls[wi];
       double m_wall = INFINITY;
-      if (w.motion.kind == WallMotion::Kind::load_controlled) {
+      if (w.motion.free_along_load()) {
         double length = 0;
         for (const Segment& seg : scene.segments)
           if (seg.wall == static_cast<int>(wi)) length += norm(seg.b - seg.a);

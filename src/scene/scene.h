@@ -9,6 +9,7 @@
 #include "integrators/step_control.h"
 #include "src/geometry/periodic_cell.h"
 #include "src/base/vec2.h"
+#include "src/scene/wall_motion.h"
 #include "thermal/conduction_model.h"
 #include "thermal/wall_temperature.h"
 
@@ -40,22 +41,6 @@ struct PairLaw {
 
 // What mechanical dissipation becomes heat in the particles.
 enum class HeatFromDissipation { none, friction, all };
-
-// How a wall (all its segments, and the particles attached to it) moves as one rigid body.
-// load_controlled: a body of mass `mass` driven at `velocity` and free along the direction of the
-// constant force `load` (perpendicular to it), where the particles push it and a dashpot
-// `damping` slows it (Nguyen's shear cell: V along x, the normal load F along -y). Its weight is
-// not added: give it in `load`. Its position along the load is part of the state.
-struct WallMotion {
-  enum class Kind { fixed, translate, rotate, load_controlled } kind = Kind::fixed;
-  Vec2 velocity;        // translate, load_controlled: m/s
-  double distance = 0;  // translate: the wall stops after travelling this far (m)
-  Vec2 centre;          // rotate: centre of rotation
-  double omega = 0;     // rotate: rad/s, counter-clockwise positive
-  Vec2 load;            // load_controlled: N
-  double mass = 0;      // load_controlled: kg
-  double damping = 0;   // load_controlled: N s/m, along the load
-};
 
 // One straight wall piece. A particle touching a shared vertex is handled by exactly one of the
 // two segments meeting there (see dem_system.cpp, wall contacts).

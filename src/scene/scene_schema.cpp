@@ -26,7 +26,7 @@ const KeySchema& scene_schema() {
     {"walls.*", {"name", "material", "motion", "temperature", "segment", "polyline", "box", "circle", "arc", "closed",
                  "tolerance", "svg"}},
     {"walls.*.svg", {"file", "scale", "offset", "tolerance", "group"}},
-    {"walls.*.motion", {"type", "velocity", "distance", "centre", "rpm", "load", "mass", "damping"}},
+    {"walls.*.motion", wall_motion_keys()},
     {"walls.*.temperature", {"steps", "ramp"}},
     {"walls.*.circle", {"centre", "radius"}},
     {"walls.*.arc", {"centre", "radius", "from_deg", "to_deg"}},

@@ -105,7 +105,7 @@ std::optional<FloorDiscState> friction_disc_on_floor(const Scene& s, double t_en
   if (s.n_particles() != 1 || s.walls.size() != 1 || s.segments.size() != 1) return std::nullopt;
   const Segment& seg = s.segments[0];
   const contact::ContactLaw& law = s.law(s.material[0], s.walls[0].material).contact;
-  if (seg.a.y != seg.b.y || s.walls[0].motion.kind != WallMotion::Kind::fixed || law.model != contact::NormalModel::linear ||
+  if (seg.a.y != seg.b.y || s.walls[0].motion.moves() || law.model != contact::NormalModel::linear ||
       law.rolling_friction > 0)
     return std::nullopt;
   const double r = s.radius[0], floor = seg.a.y;
