@@ -5,7 +5,6 @@
 
 #include "src/base/error.h"
 #include "src/base/parallel.h"
-#include "src/scene/wall_geometry.h"
 
 namespace kiln {
 
@@ -286,7 +285,7 @@ void DemSystem::accelerations(Evaluation& e) {
     Vec2 a;
     if (w >= 0) {
       const WallMotion& m = scene_.walls[w].motion;
-      a = m.acceleration_at({e.x[i], e.y[i]});
+      a = m.acceleration_at({e.x[i], e.y[i]}, e.t);
       if (body_of_wall_[w] >= 0) a = m.along_load(body_acceleration_[body_of_wall_[w]]);
     }
     e.fx[i] = a.x;

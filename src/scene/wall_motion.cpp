@@ -53,7 +53,7 @@ Vec2 WallMotion::velocity_at(Vec2 p, double t) const {
   return {};
 }
 
-Vec2 WallMotion::acceleration_at(Vec2 p) const {
+Vec2 WallMotion::acceleration_at(Vec2 p, double /*t*/) const {
   switch (kind) {
     case Kind::fixed:
     case Kind::translate:  // its stop is a jump (velocity_jumps), not an acceleration

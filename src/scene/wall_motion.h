@@ -46,8 +46,8 @@ struct WallMotion {
     }
     return 0;
   }
-  // The acceleration of its world point p (a turning wall's centripetal one).
-  Vec2 acceleration_at(Vec2 p) const;
+  // The acceleration of its world point p at time t (a turning wall's centripetal one).
+  Vec2 acceleration_at(Vec2 p, double t) const;
   // The centre it turns about, if it turns.
   std::optional<Vec2> centre_of_rotation() const;
   // Whether its velocity jumps (a translation stopping after its distance): particles cannot follow it.

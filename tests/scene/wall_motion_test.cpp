@@ -73,7 +73,7 @@ TEST_CASE("every kind of wall motion: its velocity is the rate of its position a
         const Vec2 p = m.point_at(s.b, t);
         const Vec2 change = (1 / (2 * h)) * (m.velocity_at(m.point_at(s.b, t + h), t + h) -
                                              m.velocity_at(m.point_at(s.b, t - h), t - h));
-        const Vec2 a = m.acceleration_at(p);
+        const Vec2 a = m.acceleration_at(p, t);
         CHECK(change.x == Approx(a.x).margin(1e-6));
         CHECK(change.y == Approx(a.y).margin(1e-6));
       }
