@@ -1,41 +1,52 @@
 // Normal contact force laws: pure functions of the overlap, the approach speed and the pair law.
 //
-// Both laws share one form, F_n = k delta^p + c delta^q d(delta)/dt (repulsive positive):
-//  - linear spring-dashpot (CSIRO [csiro-dem-spring-dashpot.txt]: F_n = -k dx + C v_n; thesis
-//    eq. for the normal spring K with dashpot C): p = 1, q = 0;
-//  - Hertz with the Tsuji et al. (1992) dashpot: p = 3/2, q = 1/4, k = 4/3 E* sqrt(R*),
-//    1/E* = (1-nu_i^2)/E_i + (1-nu_j^2)/E_j, 1/R* = 1/r_i + 1/r_j (Nguyen et al. 2009, section on
-//    Hertz contact [nguyen2009-friction-heat-dem.txt]).
-// The dashpot is c = beta sqrt(m_eff k). With q = 1/4 the restitution of a Hertz contact does not
-// depend on the impact speed, so beta is a function of e alone (see restitution_damping).
+// Every normal model has the form F_n = k delta^p + c delta^q d(delta)/dt (repulsive positive),
+// one struct each with its source: contact/linear_spring.h (p = 1, q = 0) and
+// contact/hertz_spring.h (p = 3/2, q = 1/4). The dashpot is c = beta sqrt(m_eff k), beta found
+// from the restitution (restitution_damping). `with_normal_model` is the one place that turns a
+// NormalModel into its struct: everything that depends on the model asks through it, so a new
+// model is its struct, a case there and a row of contact/model_table.cpp.
 #pragma once
 #include <cmath>
 
+#include "contact/contact_law.h"
+#include "contact/hertz_spring.h"
+#include "contact/linear_spring.h"
+
 namespace kiln::contact {
+
+// Calls f with the struct of `model`. On a contact's path this costs what a test of a flag does:
+// the case is inlined into each caller, and the switch has no default, so a model without a case
+// is a compiler warning (-Wswitch), and no other value exists (the enum is only ever read from
+// the model table).
+template <class F>
+[[gnu::always_inline]] inline decltype(auto) with_normal_model(NormalModel model, F&& f) {
+  switch (model) {
+    case NormalModel::linear:
+      return f(LinearSpring{});
+    case NormalModel::hertz:
+      return f(HertzSpring{});
+  }
+  __builtin_unreachable();
+}
 
 struct NormalLaw {
   double k = 0;       // stiffness: N/m (linear) or N/m^1.5 (Hertz)
   double c = 0;       // dashpot: N s/m (linear) or N s/m^1.25 (Hertz)
-  bool hertz = false;
+  NormalModel model = NormalModel::linear;
   bool tension = true;  // false: no attractive force (F_n clamped at 0)
 };
 
 // Normal force magnitude on the pair (positive pushes the bodies apart). `overlap` > 0.
 inline double normal_force(const NormalLaw& law, double overlap, double approach_speed) {
-  double f;
-  if (law.hertz) {
-    const double root = std::sqrt(std::fmax(overlap, 0.0));  // continued by 0 past separation
-    f = law.k * overlap * root + law.c * std::sqrt(root) * approach_speed;
-  } else {
-    f = law.k * overlap + law.c * approach_speed;
-  }
+  const double f =
+      with_normal_model(law.model, [&](auto m) { return m.force(law.k, law.c, overlap, approach_speed); });
   return (!law.tension && f < 0) ? 0.0 : f;
 }
 
 // What the normal force `force` carries beyond the conservative spring: the dashpot's part (N).
 inline double dashpot_force(const NormalLaw& law, double overlap, double force) {
-  const double spring = law.hertz ? law.k * overlap * std::sqrt(overlap) : law.k * overlap;
-  return force - spring;
+  return force - with_normal_model(law.model, [&](auto m) { return m.spring(law.k, overlap); });
 }
 
 // Power the normal force turns into heat: what it does beyond the conservative spring,
@@ -44,35 +55,46 @@ inline double normal_dissipation(const NormalLaw& law, double overlap, double ap
   return dashpot_force(law, overlap, force) * approach_speed;
 }
 
-// Elastic energy stored in the normal spring: k delta^2/2 (linear), 2/5 k delta^(5/2) (Hertz).
+// Elastic energy stored in the normal spring (J): the integral of k delta^p over the overlap.
 inline double normal_elastic_energy(const NormalLaw& law, double overlap) {
-  return law.hertz ? 0.4 * law.k * overlap * overlap * std::sqrt(overlap) : 0.5 * law.k * overlap * overlap;
+  return with_normal_model(law.model, [&](auto m) { return m.energy(law.k, overlap); });
 }
 
-// beta such that c = beta sqrt(m_eff k) gives restitution e for the law's form.
-// Linear with tension: exact closed form, beta = 2 zeta with zeta = -ln e / sqrt(pi^2 + ln^2 e).
-// Otherwise (Hertz, or no tension): found once by bisection on an accurate integration of the
-// dimensionless collision u'' = -u^p - beta u^q u', u(0) = 0, u'(0) = 1, which is exact up to
-// the quadrature error (relative 1e-7): e = -u'(t_end) at separation.
-double restitution_damping(double e, bool hertz, bool tension);
+// Linear(ised) normal stiffness dF/d(overlap) of the spring (N/m): the tangential and rolling
+// springs scale with it.
+inline double stiffness_slope(const NormalLaw& law, double overlap) {
+  return with_normal_model(law.model, [&](auto m) { return m.slope(law.k, overlap); });
+}
+
+// delta^q: how the dashpot (normal and tangential) grows with the overlap.
+inline double dashpot_scale(const NormalLaw& law, double overlap) {
+  return with_normal_model(law.model, [&](auto m) { return m.dashpot_scale(overlap); });
+}
+
+// Whether the normal force jumps as a contact begins (a dashpot already pushing at zero overlap).
+inline bool force_jumps_at_touch(NormalModel model) {
+  return with_normal_model(model, [](auto m) { return m.force_jumps_at_touch; });
+}
+
+// How long a contact of effective mass m_eff lasts when it starts at `speed` (s).
+inline double contact_duration(const NormalLaw& law, double m_eff, double speed) {
+  return with_normal_model(law.model, [&](auto m) { return m.contact_duration(law.k, law.c, m_eff, speed); });
+}
+
+// The contact's fastest angular frequency (1/s) in an impact at `speed`: central differences are
+// stable on it for dt < 2 / omega.
+inline double limiting_frequency(const NormalLaw& law, double m_eff, double speed) {
+  return with_normal_model(law.model, [&](auto m) { return m.limiting_frequency(law.k, law.c, m_eff, speed); });
+}
+
+// beta such that c = beta sqrt(m_eff k) gives restitution e for the model's form: the model's
+// closed form where it has one (linear with tension: beta = 2 zeta), otherwise (Hertz, or no
+// tension) found once by bisection on an accurate integration of the dimensionless collision
+// u'' = -u^p - beta u^q u', u(0) = 0, u'(0) = 1, which is exact up to the quadrature error
+// (relative 1e-7): e = -u'(t_end) at separation.
+double restitution_damping(double e, NormalModel model, bool tension);
 
 // Restitution that the dimensionless collision gives for a given beta (the inverse of the above).
-double restitution_for_damping(double beta, bool hertz, bool tension);
-
-// Contact duration of the linear law with dashpot: pi / sqrt(k/m - (c/(2m))^2).
-inline double linear_contact_duration(double k, double c, double m_eff) {
-  const double w2 = k / m_eff - (c / (2 * m_eff)) * (c / (2 * m_eff));
-  return w2 > 0 ? M_PI / std::sqrt(w2) : INFINITY;
-}
-
-// Hertz contact duration for impact speed v (undamped): 2.94328 delta_max / v with
-// delta_max = (15 m* v^2 / (16 E* sqrt(R*)))^(2/5) (Johnson, Contact Mechanics, 1985, eqs. 11.23
-// and 11.24), rewritten for k = 4/3 E* sqrt(R*): delta_max = (5 m* v^2 / (4 k))^(2/5), so
-// t_c = 2.94328 (5/4)^(2/5) (m*^2 / (k^2 v))^(1/5) = 3.2181 (m*^2 / (k^2 v))^(1/5).
-// (Johnson's 2.87 belongs to the form with E* and R* written out, not to k.)
-inline double hertz_contact_duration(double k, double m_eff, double v) {
-  constexpr double hertz_time_constant = 2.9432752;  // 2 int_0^1 du / sqrt(1 - u^(5/2)) = (4/5) B(2/5, 1/2)
-  return hertz_time_constant * std::pow(1.25 * m_eff / k, 0.4) * std::pow(v, -0.2);
-}
+double restitution_for_damping(double beta, NormalModel model, bool tension);
 
 }  // namespace kiln::contact

@@ -11,14 +11,6 @@
 
 namespace kiln {
 
-namespace kernel {
-// Linear(ised) normal stiffness: k, or dF/d(overlap) of the Hertz spring, 3/2 k delta^1/2. The
-// tangential and rolling springs scale with it.
-inline double linearised_stiffness(const contact::NormalLaw& nl, double overlap) {
-  return nl.hertz ? 1.5 * nl.k * std::sqrt(std::fmax(overlap, 0.0)) : nl.k;
-}
-}  // namespace kernel
-
 inline void DemSystem::forget(ContactList& list, int p) {
   list.trial[p] = 0;
   list.trial_roll[p] = 0;
@@ -35,14 +27,15 @@ inline DemSystem::PairMasses DemSystem::pair_masses(int i, int j) const {
 
 inline contact::TangentialLaw DemSystem::tangential_law(const ContactCoefficients& lf, const contact::NormalLaw& nl,
                                                         double overlap) const {
-  const double quarter = nl.hertz ? std::sqrt(std::sqrt(std::fmax(overlap, 0.0))) : 1.0;
-  return {lf.kt_ratio * kernel::linearised_stiffness(nl, overlap), lf.ct_ratio * nl.c * quarter, lf.mu};
+  // The tangential spring scales with the normal one's slope, its dashpot as the normal dashpot.
+  return {lf.law.tangential_stiffness_ratio * contact::stiffness_slope(nl, overlap),
+          lf.law.tangential_damping_ratio * nl.c * contact::dashpot_scale(nl, overlap), lf.law.friction};
 }
 
 inline contact::RollingLaw DemSystem::rolling_law(const ContactCoefficients& lf, const contact::NormalLaw& nl,
                                                   double overlap, const PairMasses& pm, double normal) const {
-  return contact::rolling_law(lf.rolling_model, lf.mu_roll, kernel::linearised_stiffness(nl, overlap), pm.r_eff,
-                              pm.inertia, pm.spin_inertia, pm.m_eff, lf.eta_roll, normal);
+  return contact::rolling_law(lf.law.rolling_model, lf.law.rolling_friction, contact::stiffness_slope(nl, overlap),
+                              pm.r_eff, pm.inertia, pm.spin_inertia, pm.m_eff, lf.law.rolling_damping_ratio, normal);
 }
 
 // The normal force, then (with history) the tangential and rolling springs: their trial values
@@ -55,7 +48,7 @@ inline contact::RollingLaw DemSystem::rolling_law(const ContactCoefficients& lf,
   const double vn = c.rv.x * nx + c.rv.y * ny;      // approach speed
   const double drift = -c.rv.x * ny + c.rv.y * nx;  // the relative velocity along t
   const ContactCoefficients& lf = laws_[list.law[p]];
-  const contact::NormalLaw nl{list.k[p], list.c[p], lf.hertz, lf.tension};
+  const contact::NormalLaw nl = lf.normal_law_of(list.k[p], list.c[p]);
   const double fn = contact::normal_force(nl, c.overlap, vn);
   f.damping_power = contact::normal_dissipation(nl, c.overlap, vn, fn);
   f.dashpot = contact::dashpot_force(nl, c.overlap, fn);  // damping_power = dashpot vn

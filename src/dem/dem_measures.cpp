@@ -24,7 +24,7 @@ EnergyLedger DemSystem::energy(double t, const double* y) const {
   double normal_elastic = 0, friction_elastic = 0, held = 0;
   auto add = [&](const ContactList& list, int p, int j, double overlap) {
     const ContactCoefficients& lf = laws_[list.law[p]];
-    const contact::NormalLaw nl{list.k[p], list.c[p], lf.hertz, lf.tension};
+    const contact::NormalLaw nl = lf.normal_law_of(list.k[p], list.c[p]);
     normal_elastic += contact::normal_elastic_energy(nl, overlap);
     if (!list.history) return;
     double stored = 0;

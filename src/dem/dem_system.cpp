@@ -5,7 +5,6 @@
 
 #include "src/base/error.h"
 #include "src/base/parallel.h"
-#include "src/scene/wall_geometry.h"
 
 namespace kiln {
 
@@ -28,8 +27,7 @@ double automatic_skin(const Scene& scene) {
 
 // What a wall's torque is taken about: its centre of rotation, else the mean of its end points.
 Vec2 wall_reference(const Scene& scene, int w) {
-  const WallMotion& m = scene.walls[w].motion;
-  if (m.kind == WallMotion::Kind::rotate) return m.centre;
+  if (const auto centre = scene.walls[w].motion.centre_of_rotation()) return *centre;
   Vec2 sum;
   int count = 0;
   for (const Segment& s : scene.segments)
@@ -85,9 +83,9 @@ DemSystem::DemSystem(const Scene& scene)
     }
   }
   for (size_t w = 0; w < scene.walls.size(); ++w) {
-    moving_walls_ = moving_walls_ || scene.walls[w].motion.kind != WallMotion::Kind::fixed;
+    moving_walls_ = moving_walls_ || scene.walls[w].motion.moves();
     wall_reference_.push_back(wall_reference(scene, static_cast<int>(w)));
-    const bool body = scene.walls[w].motion.kind == WallMotion::Kind::load_controlled;
+    const bool body = scene.walls[w].motion.free_along_load();
     body_of_wall_.push_back(body ? static_cast<int>(body_wall_.size()) : -1);
     if (body) body_wall_.push_back(static_cast<int>(w));
   }
@@ -120,10 +118,10 @@ std::vector<double> DemSystem::initial_state() const {
   for (int i : attached_list_) {
     const int w = scene_.attached[i];
     const WallMotion m = w >= 0 ? scene_.walls[w].motion : WallMotion{};
-    const Vec2 u = wall_velocity_at(m, scene_.position[i], 0);
+    const Vec2 u = m.velocity_at(scene_.position[i], 0);
     y[vx_at() + i] = u.x;
     y[vy_at() + i] = u.y;
-    if (rotates_) y[omega_at() + i] = m.kind == WallMotion::Kind::rotate ? m.omega : 0.0;
+    if (rotates_) y[omega_at() + i] = m.spin();
   }
   return y;
 }
@@ -131,15 +129,13 @@ std::vector<double> DemSystem::initial_state() const {
 Vec2 DemSystem::body_offset(int w, const double* y) const {
   const int k = body_of_wall_[w];
   if (k < 0 || !y) return {};
-  const Vec2 load = scene_.walls[w].motion.load;
-  return (y[body_at() + k] / norm(load)) * load;
+  return scene_.walls[w].motion.along_load(y[body_at() + k]);
 }
 
 Vec2 DemSystem::body_velocity(int w, const double* y) const {
   const int k = body_of_wall_[w];
   if (k < 0 || !y) return {};
-  const Vec2 load = scene_.walls[w].motion.load;
-  return (y[body_speed_at() + k] / norm(load)) * load;
+  return scene_.walls[w].motion.along_load(y[body_speed_at() + k]);
 }
 
 void DemSystem::wall_geometry(double t, const double* y, std::vector<Vec2>& a, std::vector<Vec2>& b) const {
@@ -149,8 +145,8 @@ void DemSystem::wall_geometry(double t, const double* y, std::vector<Vec2>& a, s
     const Segment& seg = scene_.segments[s];
     const WallMotion& m = scene_.walls[seg.wall].motion;
     const Vec2 shift = body_offset(seg.wall, y);
-    a[s] = wall_point_at(m, seg.a, t) + shift;
-    b[s] = wall_point_at(m, seg.b, t) + shift;
+    a[s] = m.point_at(seg.a, t) + shift;
+    b[s] = m.point_at(seg.b, t) + shift;
   }
 }
 
@@ -161,7 +157,7 @@ void DemSystem::update_walls(double t, const double* y) {
   wall_geometry(t, y, seg_a_, seg_b_);
   wall_centre_.resize(scene_.walls.size());
   for (size_t w = 0; w < scene_.walls.size(); ++w)
-    wall_centre_[w] = wall_point_at(scene_.walls[w].motion, wall_reference_[w], t) + body_offset(static_cast<int>(w), y);
+    wall_centre_[w] = scene_.walls[w].motion.point_at(wall_reference_[w], t) + body_offset(static_cast<int>(w), y);
   seg_time_ = t;
 }
 
@@ -273,10 +269,8 @@ void DemSystem::accelerations(Evaluation& e) {
     Vec2 a;
     if (w >= 0) {
       const WallMotion& m = scene_.walls[w].motion;
-      if (m.kind == WallMotion::Kind::rotate) a = (-m.omega * m.omega) * (Vec2{e.x[i], e.y[i]} - m.centre);
-      if (body_of_wall_[w] >= 0) {
-        a = (body_acceleration_[body_of_wall_[w]] / norm(m.load)) * m.load;
-      }
+      a = m.acceleration_at({e.x[i], e.y[i]}, e.t);
+      if (body_of_wall_[w] >= 0) a = m.along_load(body_acceleration_[body_of_wall_[w]]);
     }
     e.fx[i] = a.x;
     e.fy[i] = a.y;
@@ -303,13 +297,11 @@ void DemSystem::attached_particles(Evaluation& e) {
   }
 }
 
-// A load-controlled wall: m s'' = (F_particles + F_load) . e - c s', e the load's direction.
+// A load-controlled wall under the particles' force and its load (WallMotion::body_acceleration).
 void DemSystem::wall_bodies(Evaluation& e, double* ydot) {
   for (int k = 0; k < bodies(); ++k) {
     const WallMotion& m = scene_.walls[body_wall_[k]].motion;
-    const double load = norm(m.load);
-    const double along = dot(wall_loads_[body_wall_[k]].force, (1 / load) * m.load) + load;
-    body_acceleration_[k] = (along - m.damping * e.state[body_speed_at() + k]) / m.mass;
+    body_acceleration_[k] = m.body_acceleration(wall_loads_[body_wall_[k]].force, e.state[body_speed_at() + k]);
     ydot[body_speed_at() + k] = body_acceleration_[k];
   }
 }

@@ -163,7 +163,7 @@ class DemSystem final : public OdeSystem {
   // The velocity of wall w's point `p` at time t in state y: its driven motion plus, for a
   // load-controlled wall, the speed of its free coordinate.
   Vec2 wall_point_velocity(int w, Vec2 p, double t, const double* y) const {
-    return wall_velocity_at(scene_.walls[w].motion, p, t) + body_velocity(w, y);
+    return scene_.walls[w].motion.velocity_at(p, t) + body_velocity(w, y);
   }
   Vec2 body_velocity(int w, const double* y) const;  // the free coordinate's part alone
   const Scene& scene() const { return scene_; }
@@ -286,7 +286,7 @@ class DemSystem final : public OdeSystem {
   // contact radius is set by the elastic deformation, the dashpot does not widen it.
   double touching_pair_conductance(int p, double dist, double overlap) const {
     const ContactCoefficients& lf = laws_[pp_.law[p]];
-    const double elastic = contact::normal_force({pp_.k[p], pp_.c[p], lf.hertz, lf.tension}, overlap, 0.0);
+    const double elastic = contact::normal_force(lf.normal_law_of(pp_.k[p], pp_.c[p]), overlap, 0.0);
     return thermal::conductance(lf.conduction, radius_[pp_.i[p]], radius_[pp_.j[p]], dist, elastic);
   }
   double wall_conductance(const double* px, const double* py, const std::vector<Vec2>& a, const std::vector<Vec2>& b,

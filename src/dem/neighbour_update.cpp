@@ -33,8 +33,8 @@ void DemSystem::rebuild_neighbours(double t, const double* y, double t_reached, 
     travel = std::max(travel, std::hypot(reached[x_at() + i] - y[x_at() + i], reached[y_at() + i] - y[y_at() + i]));
   double wall_travel = 0;
   for (size_t w = 0; w < scene_.walls.size(); ++w)
-    wall_travel = std::max(wall_travel, wall_max_displacement(scene_.walls[w].motion, scene_.segments,
-                                                              static_cast<int>(w), t, t_reached) +
+    wall_travel = std::max(wall_travel, scene_.walls[w].motion.max_displacement(scene_.segments, static_cast<int>(w),
+                                                                                t, t_reached) +
                                             norm(body_offset(static_cast<int>(w), reached) - body_offset(static_cast<int>(w), y)));
   rebuild(t, y, std::max(3 * travel, 1.5 * (travel + wall_travel)));
 }
@@ -87,8 +87,8 @@ bool DemSystem::covers(double t, const double* y, double lookahead) const {
     // A wall body: how far it went since the rebuild, and as far again as its speed takes it.
     const int k = body_of_wall_[w];
     const double body = k < 0 ? 0.0 : std::abs(y[body_at() + k] - body_ref_[k]) + 2 * lookahead * std::abs(y[body_speed_at() + k]);
-    wall_moved = std::max(wall_moved, wall_max_displacement(scene_.walls[w].motion, scene_.segments,
-                                                            static_cast<int>(w), t_ref_, t + lookahead) + body);
+    wall_moved = std::max(wall_moved, scene_.walls[w].motion.max_displacement(scene_.segments, static_cast<int>(w),
+                                                                              t_ref_, t + lookahead) + body);
   }
   const double skin = broadphase_.skin();
   return 2 * moved < skin && moved + wall_moved < skin;

@@ -27,7 +27,7 @@ double DemSystem::wall_conductance(const double* px, const double* py, const std
       !wall_hit(px, py, a, b, i, pw_.j[p], hit, events_))
     return 0;
   const ContactCoefficients& lf = laws_[pw_.law[p]];
-  const double fn = contact::normal_force({pw_.k[p], pw_.c[p], lf.hertz, lf.tension}, hit.overlap, 0.0);
+  const double fn = contact::normal_force(lf.normal_law_of(pw_.k[p], pw_.c[p]), hit.overlap, 0.0);
   return thermal::conductance(lf.conduction, radius_[i], INFINITY, radius_[i] - hit.overlap, fn);
 }
 

@@ -33,7 +33,7 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     const WallMotion& motion = scene_.walls[wall].motion;
     const Vec2 point = image_at(e.x, e.y, i, seg_a_[sgi], seg_b_[sgi]) + r * n;
     const Vec2 u = wall_point_velocity(wall, point, e.t, e.state);
-    const double wall_spin = motion.kind == WallMotion::Kind::rotate ? motion.omega : 0.0;
+    const double wall_spin = motion.spin();
     ContactKinematics c;
     // rho from the continuous position: a wrap across a periodic edge leaves the spring whole.
     const Vec2 rho = Vec2{e.x[i], e.y[i]} - seg_a_[sgi];  // from a point fixed on the wall
@@ -65,7 +65,7 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     e.friction_work += f.work_rate;
     e.walls_work += power;
     if (const int k = body_of_wall_[wall]; k >= 0)  // the part through the body's speed: a work
-      e.gw[body_at() + k] += dot(Vec2{f.fx, f.fy}, (1 / norm(motion.load)) * motion.load);
+      e.gw[body_at() + k] += motion.component_along_load({f.fx, f.fy});
     WallLoad& load = wall_loads_[wall];
     load.force = load.force - Vec2{f.fx, f.fy};
     load.torque += cross(point - wall_centre_[wall], Vec2{-f.fx, -f.fy}) - f.couple;

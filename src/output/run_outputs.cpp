@@ -59,7 +59,7 @@ void move_aside(const std::string& dir) {
 
 bool walls_move(const DemSystem& sys) {
   for (const Wall& w : sys.scene().walls)
-    if (w.motion.kind != WallMotion::Kind::fixed) return true;
+    if (w.motion.moves()) return true;
   return false;
 }
 

@@ -16,7 +16,8 @@ namespace {
 
 // The highest speeds at which a disc can meet a wall and another disc: a disc moves at most at its
 // largest initial speed (random_velocity included) plus a free fall over the scene's height along
-// g plus a moving wall's speed (a wall pushes it), and two discs can approach each other at twice
+// g plus the largest speed of a moving wall (a wall pushes it: WallMotion::largest_speed, a
+// load-controlled wall's driven speed included), and two discs can approach each other at twice
 // that. Speeds are taken with hypot, which does not overflow below 1.8e308; a bound that is still
 // not finite (speeds or g near the largest double) is refused by judge_dt.
 struct ImpactSpeeds {
@@ -34,16 +35,13 @@ ImpactSpeeds impact_speeds(const Scene& scene) {
     hi = std::max(hi, dot(scene.position[i], down));
     v0 = std::max(v0, speed(scene.velocity[i]));
   }
-  double wall_speed = 0;
   for (const Segment& s : scene.segments) {
     lo = std::min({lo, dot(s.a, down), dot(s.b, down)});
     hi = std::max({hi, dot(s.a, down), dot(s.b, down)});
-    const WallMotion& m = scene.walls[s.wall].motion;
-    if (m.kind == WallMotion::Kind::translate) wall_speed = std::max(wall_speed, speed(m.velocity));
-    if (m.kind == WallMotion::Kind::rotate)
-      wall_speed = std::max(
-          {wall_speed, std::abs(m.omega) * speed(s.a - m.centre), std::abs(m.omega) * speed(s.b - m.centre)});
   }
+  double wall_speed = 0;
+  for (size_t w = 0; w < scene.walls.size(); ++w)
+    wall_speed = std::max(wall_speed, scene.walls[w].motion.largest_speed(scene.segments, static_cast<int>(w)));
   const double fall = std::sqrt(2 * g) * std::sqrt(std::max(0.0, hi - lo));
   const double disc = v0 + fall + wall_speed;
   return {std::max(disc, 1e-3), std::max(2 * disc, 1e-3)};
@@ -86,11 +84,11 @@ void thermal_estimate(const Scene& scene, const std::vector<double>& rmin, const
     for (int a = 0; a < nm; ++a)
       for (int b = 0; b < nm; ++b) {
         if (!count[a] || !count[b]) continue;
-        const ContactCoefficients law = contact_coefficients(scene, a, b);
+        const ContactCoefficients pair = contact_coefficients(scene, a, b);
         const double ra = rmin[a], rb = rmin[b], overlap = 0.01 * std::min(ra, rb);
-        const double k = law.normal_stiffness(ra * rb / (ra + rb));
-        const double fn = contact::normal_force({k, 0, law.hertz, true}, overlap, 0);
-        const double h = thermal::conductance(law.conduction, ra, rb, ra + rb - overlap, fn);
+        const double k = pair.normal_stiffness(ra * rb / (ra + rb));
+        const double fn = contact::normal_force({k, 0, pair.law.model, true}, overlap, 0);
+        const double h = thermal::conductance(pair.conduction, ra, rb, ra + rb - overlap, fn);
         const Material& ma = scene.materials[a];
         const double c = disc_mass(scene, ra, ma.density) * ma.specific_heat;
         lambda = std::max(lambda, 2 * 6 * h / c);
@@ -122,20 +120,9 @@ StabilityEstimate estimate_stability(const Scene& scene) {
   // frictional T3 pile and T6 drum hold to 1.6 times it, docs/studies.md.)
   const bool packed = scene.n_particles() >= 2;
   auto consider = [&](int a, int b, double m_eff, double r_eff, double speed, const std::string& label) {
-    const ContactCoefficients law = contact_coefficients(scene, a, b);
-    const contact::NormalLaw nl = law.normal_law(m_eff, r_eff);
-    double duration, omega;
-    if (nl.hertz) {
-      duration = contact::hertz_contact_duration(nl.k, m_eff, speed);
-      const double max_overlap = std::pow(1.25 * m_eff * speed * speed / nl.k, 0.4);
-      omega = std::sqrt(1.5 * nl.k * std::sqrt(max_overlap) / m_eff);
-    } else {
-      duration = contact::linear_contact_duration(nl.k, nl.c, m_eff);
-      omega = std::sqrt(nl.k / m_eff);
-      // Central-difference limit of a damped oscillator: 2 (sqrt(1 + zeta^2) - zeta) / omega.
-      const double zeta = nl.c / (2 * std::sqrt(m_eff * nl.k));
-      omega /= std::sqrt(1 + zeta * zeta) - zeta;
-    }
+    const contact::NormalLaw nl = contact_coefficients(scene, a, b).normal_law(m_eff, r_eff);
+    const double duration = contact::contact_duration(nl, m_eff, speed);
+    const double omega = contact::limiting_frequency(nl, m_eff, speed);
     if (duration < est.contact_duration) {
       est.contact_duration = duration;
       est.shortest_pair = label;
@@ -158,7 +145,7 @@ StabilityEstimate estimate_stability(const Scene& scene) {
     for (size_t wi = 0; wi < scene.walls.size(); ++wi) {
       const Wall& w = scene.walls[wi];
       double m_wall = INFINITY;
-      if (w.motion.kind == WallMotion::Kind::load_controlled) {
+      if (w.motion.free_along_load()) {
         double length = 0;
         for (const Segment& seg : scene.segments)
           if (seg.wall == static_cast<int>(wi)) length += norm(seg.b - seg.a);
@@ -169,10 +156,10 @@ StabilityEstimate estimate_stability(const Scene& scene) {
       const double m_eff = std::isfinite(m_wall) ? mass_a * m_wall / (mass_a + m_wall) : mass_a;
       consider(a, w.material, m_eff, rmin[a], speeds.wall, ma.name + "-wall(" + w.name + ")");
     }
-    if (ma.youngs_modulus > 0) {
-      const double shear = ma.youngs_modulus / (2 * (1 + ma.poisson_ratio));
+    if (ma.contact.youngs_modulus > 0) {
+      const double shear = ma.contact.youngs_modulus / (2 * (1 + ma.contact.poisson_ratio));
       est.rayleigh = std::min(est.rayleigh, M_PI * rmin[a] * std::sqrt(ma.density / shear) /
-                                                (0.1631 * ma.poisson_ratio + 0.8766));
+                                                (0.1631 * ma.contact.poisson_ratio + 0.8766));
     }
   }
   est.recommended_dt = est.contact_duration / 50;

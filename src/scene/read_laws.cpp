@@ -1,9 +1,14 @@
 // The materials and the contact law of every pair of them: defaults mixed from the materials,
 // each `contacts:` entry over them, and the checks that a law in use has what its model needs.
+// The keys that only some models read are not named here: each law's table lists its models with
+// their keys (contact/model_table.h, thermal/conduction_model.h), and an entry is read through it.
 #include "src/scene/scene_parts.h"
 
 #include <algorithm>
-#include <cmath>
+#include <iterator>
+
+#include "contact/model_table.h"
+#include "thermal/conduction_model.h"
 
 namespace kiln::scene_parts {
 
@@ -13,6 +18,14 @@ namespace {
 // 0.2 s each, n (n + 1) / 2 of them): 16 materials cost half a minute at worst.
 constexpr int max_materials = 16;
 
+// The keys of a `contacts:` entry that every law reads; the others belong to some models of a law
+// and are listed in its table.
+const char* const common_keys[] = {"between",       "model",
+                                   "restitution",   "tension",
+                                   "friction",      "rolling_friction",
+                                   "rolling_model", "tangential_stiffness_ratio",
+                                   "tangential_damping_ratio", "conduction"};
+
 Material read_material(const std::string& name, const SceneNode& m) {
   m.allow();
   Material mat;
@@ -20,104 +33,117 @@ Material read_material(const std::string& name, const SceneNode& m) {
   // Up to 1e12 kg/m^3: osmium's 22,590 scaled up by 1e7 or more (density scaling, to lengthen the
   // step); beyond, masses of large particles overflow (1e300 made an infinite mass that blamed dt).
   if (auto v = m.optional("density")) mat.density = v->in_range(0, 1e12, true, false);
-  if (auto v = m.optional("youngs_modulus")) mat.youngs_modulus = v->positive();
-  if (auto v = m.optional("poisson_ratio")) mat.poisson_ratio = v->in_range(-1, 0.5, true, false);
-  if (auto v = m.optional("stiffness")) mat.stiffness = v->positive();
-  if (auto v = m.optional("restitution")) mat.restitution = restitution(*v);
-  if (auto v = m.optional("friction")) mat.friction = v->non_negative();
-  if (auto v = m.optional("rolling_friction")) mat.rolling_friction = v->non_negative();
+  contact::ContactMaterial& c = mat.contact;
+  if (auto v = m.optional("youngs_modulus")) c.youngs_modulus = v->positive();
+  if (auto v = m.optional("poisson_ratio")) c.poisson_ratio = v->in_range(-1, 0.5, true, false);
+  if (auto v = m.optional("stiffness")) c.stiffness = v->positive();
+  if (auto v = m.optional("restitution")) c.restitution = restitution(*v);
+  if (auto v = m.optional("friction")) c.friction = v->non_negative();
+  if (auto v = m.optional("rolling_friction")) c.rolling_friction = v->non_negative();
   if (auto v = m.optional("specific_heat")) mat.specific_heat = v->positive();
   if (auto v = m.optional("conductivity")) mat.conductivity = v->positive();
   if (auto v = m.optional("electrical_resistivity")) mat.electrical_resistivity = v->positive();
   return mat;
 }
 
-double effective_modulus(const Material& a, const Material& b) {
-  if (a.youngs_modulus <= 0 || b.youngs_modulus <= 0) return 0;
-  return 1.0 / ((1 - a.poisson_ratio * a.poisson_ratio) / a.youngs_modulus +
-                (1 - b.poisson_ratio * b.poisson_ratio) / b.youngs_modulus);
+// The model of a law that `node` names, from the law's table.
+template <class Model, class Params>
+Model read_model(const SceneNode& node, std::span<const ModelEntry<Model, Params>> table) {
+  std::vector<std::string> names;
+  for (const auto& e : table) names.push_back(e.name);
+  const std::string name = node.choice(names);  // fails unless it is one of them
+  return std::find_if(table.begin(), table.end(), [&](const auto& e) { return name == e.name; })->model;
 }
 
-// Default law of an unlisted pair: springs in series scaled to give k for like materials
-// (2 k1 k2 / (k1 + k2)), the geometric mean of the restitutions, the smaller friction.
-PairLaw combined_law(const Material& a, const Material& b, NormalModel model) {
-  PairLaw law;
-  law.model = model;
-  law.stiffness = (a.stiffness > 0 && b.stiffness > 0) ? 2 * a.stiffness * b.stiffness / (a.stiffness + b.stiffness)
-                                                       : std::max(a.stiffness, b.stiffness);
-  law.effective_modulus = effective_modulus(a, b);
-  law.restitution = std::sqrt(a.restitution * b.restitution);
-  law.friction = std::min(a.friction, b.friction);
-  law.rolling_friction = std::min(a.rolling_friction, b.rolling_friction);
-  return law;
+template <class Model, class Params>
+bool owns(const ModelEntry<Model, Params>& model, const std::string& key) {
+  return std::any_of(model.keys.begin(), model.keys.end(), [&](const auto& k) { return key == k.key; });
 }
 
-contact::RollingModel read_rolling_model(const SceneNode& node) {
-  return node.choice({"constant", "epsd"}) == "epsd" ? contact::RollingModel::epsd : contact::RollingModel::constant;
+template <class Model, class Params>
+void add_keys(const ModelEntry<Model, Params>& model, std::vector<std::string>& keys) {
+  for (const auto& k : model.keys)
+    if (std::find(keys.begin(), keys.end(), k.key) == keys.end()) keys.push_back(k.key);
 }
 
-NormalModel read_model(const SceneNode& node) {
-  return node.choice({"linear", "hertz"}) == "hertz" ? NormalModel::hertz : NormalModel::linear;
+double read_value(const SceneNode& node, const Accepted& accepts) {
+  if (accepts == positive_number) return node.positive();
+  if (accepts == non_negative_number) return node.non_negative();
+  return node.in_range(accepts.lo, accepts.hi, accepts.lo_open, accepts.hi_open);
 }
 
-thermal::ConductionModel read_conduction(const SceneNode& node) {
-  using M = thermal::ConductionModel;
-  const std::string c = node.choice({"lens", "hertz", "batchelor_obrien", "pipe_network", "constant", "none"});
-  if (c == "lens") return M::lens;
-  if (c == "hertz") return M::hertz;
-  if (c == "batchelor_obrien") return M::batchelor_obrien;
-  if (c == "pipe_network") return M::pipe_network;
-  if (c == "constant") return M::constant;
-  return M::none;
+// The keys that the models of one law own (its table), chosen by `selector`: a key of another
+// model is refused naming the models that read it and `valid`, the keys of this pair's law; the
+// chosen model's keys are read into `params`.
+template <class Model, class Params>
+void read_owned_keys(const SceneNode& c, const char* selector, std::span<const ModelEntry<Model, Params>> table,
+                     Model chosen, Params& params, const std::vector<std::string>& valid) {
+  const auto& mine = entry_of(table, chosen);
+  for (const auto& other : table)
+    for (const OwnedKey<Params>& k : other.keys) {
+      if (!c.has(k.key) || owns(mine, k.key)) continue;
+      std::string owners;
+      for (const auto& m : table)
+        if (owns(m, k.key)) owners += (owners.empty() ? "" : " or ") + std::string(selector) + ": " + m.name;
+      const std::string instead = mine.instead ? std::string(" (") + mine.title + " " + mine.instead + ")" : "";
+      c[k.key].fail(std::string(k.meaning) + " applies to " + owners + " only" + instead +
+                    "; the keys of this pair's law are " + choices_nearest_first(k.key, valid));
+    }
+  for (const OwnedKey<Params>& k : mine.keys) {
+    if (k.required || c.has(k.key)) params.*k.field = read_value(c[k.key], k.accepts);
+    if (k.excludes && c.has(k.key) && c.has(k.excludes))
+      c[k.key].fail(std::string("give either ") + k.excludes + " or " + k.key + ", not both");
+  }
 }
 
-// A contact entry's keys that belong to one law, refused with another: the Hertz law takes its
-// stiffness from the materials' moduli, and its dashpot (N s/m^1.25) from the restitution, so a
-// linear damping rate has no meaning there; each conduction and rolling law has its own parameter.
-void check_law_keys(const SceneNode& c, const PairLaw& law) {
-  using M = thermal::ConductionModel;
-  const bool hertz = law.model == NormalModel::hertz;
-  struct Owned {
-    const char* key;
-    bool applies;
-    const char* law;
-  };
-  const Owned owned[] = {
-      {"stiffness", !hertz, "model: linear (Hertz takes its stiffness from youngs_modulus and poisson_ratio)"},
-      {"damping_rate", !hertz, "model: linear (a Hertz contact is damped through its restitution)"},
-      {"conductance", law.conduction == M::constant, "conduction: constant"},
-      {"softened_modulus_ratio", law.conduction == M::batchelor_obrien, "conduction: batchelor_obrien"},
-      {"contact_resistance", law.conduction == M::pipe_network, "conduction: pipe_network"},
-      {"rolling_damping_ratio", law.rolling_model == contact::RollingModel::epsd, "rolling_model: epsd"}};
-  std::vector<std::string> valid = {"between", "model", "restitution", "tension", "friction", "rolling_friction",
-                                    "rolling_model", "tangential_stiffness_ratio", "tangential_damping_ratio",
-                                    "conduction"};
-  for (const Owned& o : owned)
-    if (o.applies) valid.push_back(o.key);
-  for (const Owned& o : owned)
-    if (c.has(o.key) && !o.applies)
-      c[o.key].fail(std::string("applies to ") + o.law + " only; the keys of this pair's law are " +
-                    choices_nearest_first(o.key, valid));
+// One `contacts:` entry over the law its pair has so far.
+void read_contact(const SceneNode& c, PairLaw& law) {
+  contact::ContactLaw& m = law.contact;
+  if (auto v = c.optional("model")) m.model = read_model(*v, contact::normal_models());
+  if (auto v = c.optional("rolling_model")) m.rolling_model = read_model(*v, contact::rolling_models());
+  if (auto v = c.optional("conduction")) law.conduction.model = read_model(*v, thermal::conduction_models());
+  if (auto v = c.optional("restitution")) m.restitution = restitution(*v);
+  if (auto v = c.optional("tension")) m.tension = v->boolean();
+  if (auto v = c.optional("friction")) m.friction = v->non_negative();
+  if (auto v = c.optional("rolling_friction")) m.rolling_friction = v->non_negative();
+  if (auto v = c.optional("tangential_stiffness_ratio")) m.tangential_stiffness_ratio = v->positive();
+  if (auto v = c.optional("tangential_damping_ratio")) m.tangential_damping_ratio = v->non_negative();
+  std::vector<std::string> valid(std::begin(common_keys), std::end(common_keys));
+  add_keys(entry_of(contact::normal_models(), m.model), valid);
+  add_keys(entry_of(contact::rolling_models(), m.rolling_model), valid);
+  add_keys(entry_of(thermal::conduction_models(), law.conduction.model), valid);
+  read_owned_keys(c, "model", contact::normal_models(), m.model, m, valid);
+  read_owned_keys(c, "rolling_model", contact::rolling_models(), m.rolling_model, m, valid);
+  read_owned_keys(c, "conduction", thermal::conduction_models(), law.conduction.model, law.conduction, valid);
 }
 
 }  // namespace
 
+std::vector<std::string> contact_entry_keys() {
+  std::vector<std::string> keys(std::begin(common_keys), std::end(common_keys));
+  for (const auto& m : contact::normal_models()) add_keys(m, keys);
+  for (const auto& m : contact::rolling_models()) add_keys(m, keys);
+  for (const auto& m : thermal::conduction_models()) add_keys(m, keys);
+  return keys;
+}
+
 void read_contacts(const SceneNode& root, Scene& scene, const MaterialIndex& index,
                    std::vector<Location>& law_location) {
   const int nm = scene.n_materials();
-  NormalModel model = NormalModel::linear;
-  if (auto m = root.optional("contact_model")) model = read_model(*m);
+  contact::NormalModel model = contact::NormalModel::linear;
+  if (auto m = root.optional("contact_model")) model = read_model(*m, contact::normal_models());
   thermal::ConductionModel conduction = thermal::ConductionModel::lens;
-  if (auto c = root.optional("conduction_model")) conduction = read_conduction(*c);
+  if (auto c = root.optional("conduction_model")) conduction = read_model(*c, thermal::conduction_models());
   contact::RollingModel rolling = contact::RollingModel::constant;
-  if (auto r = root.optional("rolling_model")) rolling = read_rolling_model(*r);
+  if (auto r = root.optional("rolling_model")) rolling = read_model(*r, contact::rolling_models());
   scene.laws.resize(nm * nm);
   law_location.assign(nm * nm, root.location());
   for (int a = 0; a < nm; ++a)
     for (int b = 0; b < nm; ++b) {
-      scene.laws[a * nm + b] = combined_law(scene.materials[a], scene.materials[b], model);
-      scene.laws[a * nm + b].conduction = conduction;
-      scene.laws[a * nm + b].rolling_model = rolling;
+      PairLaw& law = scene.laws[a * nm + b];
+      law.contact = contact::mixed_law(scene.materials[a].contact, scene.materials[b].contact, model);
+      law.contact.rolling_model = rolling;
+      law.conduction.model = conduction;
     }
   if (auto contacts = root.optional("contacts")) {
     for (const SceneNode& c : contacts->items()) {
@@ -126,24 +152,7 @@ void read_contacts(const SceneNode& root, Scene& scene, const MaterialIndex& ind
       if (pair.size() != 2) c["between"].fail("expected two material names [a, b]");
       const int a = index.find(pair[0]), b = index.find(pair[1]);
       PairLaw law = scene.laws[a * nm + b];
-      if (auto v = c.optional("model")) law.model = read_model(*v);
-      if (auto v = c.optional("stiffness")) law.stiffness = v->positive();
-      if (auto v = c.optional("restitution")) law.restitution = restitution(*v);
-      if (auto v = c.optional("damping_rate")) law.damping_rate = v->non_negative();
-      if (c.has("restitution") && c.has("damping_rate"))
-        c["damping_rate"].fail("give either restitution or damping_rate, not both");
-      if (auto v = c.optional("tension")) law.tension = v->boolean();
-      if (auto v = c.optional("friction")) law.friction = v->non_negative();
-      if (auto v = c.optional("rolling_friction")) law.rolling_friction = v->non_negative();
-      if (auto v = c.optional("rolling_model")) law.rolling_model = read_rolling_model(*v);
-      if (auto v = c.optional("rolling_damping_ratio")) law.rolling_damping_ratio = v->non_negative();
-      if (auto v = c.optional("tangential_stiffness_ratio")) law.tangential_stiffness_ratio = v->positive();
-      if (auto v = c.optional("tangential_damping_ratio")) law.tangential_damping_ratio = v->non_negative();
-      if (auto v = c.optional("conduction")) law.conduction = read_conduction(*v);
-      if (law.conduction == thermal::ConductionModel::constant) law.conductance = c["conductance"].positive();
-      if (auto v = c.optional("softened_modulus_ratio")) law.modulus_ratio = v->in_range(0, 1, true, false);
-      if (auto v = c.optional("contact_resistance")) law.contact_resistance = v->non_negative();
-      check_law_keys(c, law);
+      read_contact(c, law);
       scene.laws[a * nm + b] = scene.laws[b * nm + a] = law;
       law_location[a * nm + b] = law_location[b * nm + a] = c.location();
     }
@@ -175,22 +184,21 @@ void check_laws(const Scene& scene, const std::vector<Location>& law_location) {
       if (!used[a] || !(used[b] || wall_used[b])) continue;
       const PairLaw& law = scene.law(a, b);
       const std::string pair = "'" + scene.materials[a].name + "' and '" + scene.materials[b].name + "'";
-      if (law.model == NormalModel::linear && !(law.stiffness > 0))
-        throw InputError(law_location[a * nm + b], "the linear contact between " + pair +
-                                                       " needs a stiffness (materials' or the contact's 'stiffness')");
-      if (law.model == NormalModel::hertz && !(law.effective_modulus > 0))
+      const contact::NormalModelEntry& model = entry_of(contact::normal_models(), law.contact.model);
+      if (model.needed && !(law.contact.*model.needed > 0))
         throw InputError(law_location[a * nm + b],
-                         "the Hertz contact between " + pair + " needs youngs_modulus on both materials");
-      if (!scene.thermal || law.conduction == thermal::ConductionModel::none ||
-          law.conduction == thermal::ConductionModel::constant)
+                         std::string("the ") + model.title + " contact between " + pair + " needs " + model.needs);
+      const thermal::ConductionModel conduction = law.conduction.model;
+      if (!scene.thermal || conduction == thermal::ConductionModel::none ||
+          conduction == thermal::ConductionModel::constant)
         continue;
       if (!used[b] && !wall_conducts[b]) continue;
       if (!(scene.materials[a].conductivity > 0 && scene.materials[b].conductivity > 0))
         throw InputError(law_location[a * nm + b], "conduction between " + pair + " needs 'conductivity' on both materials");
-      if (law.conduction == thermal::ConductionModel::hertz && !(law.effective_modulus > 0))
+      if (conduction == thermal::ConductionModel::hertz && !(law.contact.effective_modulus > 0))
         throw InputError(law_location[a * nm + b],
                          "Hertz conduction between " + pair + " needs youngs_modulus on both materials");
-      if (law.conduction == thermal::ConductionModel::pipe_network && scene.mass_model != MassModel::cylinder)
+      if (conduction == thermal::ConductionModel::pipe_network && scene.mass_model != MassModel::cylinder)
         throw InputError(law_location[a * nm + b], "pipe_network conduction is for cylinders: set mass_model: cylinder");
     }
 }

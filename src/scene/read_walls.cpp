@@ -1,5 +1,5 @@
-// The walls (shapes flattened to segments, SVG drawings, motions, temperatures), the particles
-// attached to them, and the periodic cell.
+// The walls (shapes flattened to segments, SVG drawings, temperatures; their motions are
+// wall_motion.cpp's), the particles attached to them, and the periodic cell.
 #include "src/scene/scene_parts.h"
 
 #include <algorithm>
@@ -10,37 +10,6 @@
 namespace kiln::scene_parts {
 
 namespace {
-
-WallMotion read_motion(const SceneNode& m) {
-  WallMotion motion;
-  const std::string kind = m["type"].choice({"fixed", "translate", "rotate", "load_controlled"});
-  if (kind == "fixed") {
-    m.allow({"type"});
-  } else if (kind == "load_controlled") {
-    m.allow({"type", "velocity", "load", "mass", "damping"});
-    motion.kind = WallMotion::Kind::load_controlled;
-    motion.velocity = m.has("velocity") ? m["velocity"].vec2() : Vec2{};
-    motion.load = m["load"].vec2();
-    motion.mass = m["mass"].positive();
-    motion.damping = m["damping"].non_negative();  // stated, as the load and mass are (0 allowed)
-    if (norm(motion.load) == 0) m["load"].fail("a load-controlled wall needs a non-zero load (N)");
-    // The body is driven along the velocity and free along the load: the two must not share a direction.
-    if (std::abs(dot(motion.velocity, motion.load)) > 1e-12 * norm(motion.velocity) * norm(motion.load))
-      m["velocity"].fail("the driven velocity must be perpendicular to the load: the wall is free along the load");
-  } else if (kind == "translate") {
-    m.allow({"type", "velocity", "distance"});
-    motion.kind = WallMotion::Kind::translate;
-    motion.velocity = m["velocity"].vec2();
-    motion.distance = m.has("distance") ? m["distance"].non_negative() : INFINITY;
-  } else {
-    m.allow({"type", "centre", "rpm"});
-    motion.kind = WallMotion::Kind::rotate;
-    motion.centre = point(m["centre"]);
-    motion.omega = m["rpm"].number() * 2 * M_PI / 60;
-    if (!std::isfinite(motion.omega)) m["rpm"].fail("the angular speed overflows double precision");
-  }
-  return motion;
-}
 
 // temperature: T (isothermal), {steps: [[t0, T0], [t1, T1], ...]} (T_k from t_k on), or
 // {ramp: [[t0, T0], ...]} (linear between the points, held beyond them).
@@ -186,7 +155,7 @@ void read_walls(const SceneNode& root, Scene& scene, const MaterialIndex& index,
     }
     // One body under one load: a drawing of several groups is several walls, each of which would
     // carry the whole mass and load.
-    if (drawn.size() > 1 && wall.motion.kind == WallMotion::Kind::load_controlled)
+    if (drawn.size() > 1 && wall.motion.free_along_load())
       w["motion"].fail("a load-controlled wall is one body: this drawing has " + std::to_string(drawn.size()) +
                        " groups; pick one with svg.group, or draw the wall as one group");
     for (const DrawnWall& d : drawn) {
@@ -225,8 +194,7 @@ void attach_particles(const std::vector<Attachment>& attachments, Scene& scene) 
         if (scene.walls[w].name == name) to = static_cast<int>(w);
       }
       if (to == -3) a.node.fail("no wall is named '" + name + "'; the walls are " + choices_nearest_first(name, names));
-      const WallMotion& m = scene.walls[to].motion;
-      if (m.kind == WallMotion::Kind::translate && std::isfinite(m.distance))
+      if (scene.walls[to].motion.velocity_jumps())
         a.node.fail("particles cannot follow a wall that stops after a distance: their velocity would have to jump");
     }
     std::fill_n(scene.attached.begin() + a.first, a.count, to);

@@ -5,11 +5,12 @@
 #include <string>
 #include <vector>
 
-#include "contact/rolling_resistance.h"
+#include "contact/contact_law.h"
 #include "integrators/step_control.h"
 #include "src/geometry/periodic_cell.h"
 #include "src/base/vec2.h"
-#include "thermal/conductance.h"
+#include "src/scene/wall_motion.h"
+#include "thermal/conduction_model.h"
 #include "thermal/wall_temperature.h"
 
 namespace kiln {
@@ -22,61 +23,24 @@ inline constexpr double shortest_length = 1e-9;
 inline constexpr double farthest_coordinate = 1e6;
 
 enum class MassModel { sphere, cylinder };
-enum class NormalModel { linear, hertz };
 
 struct Material {
   std::string name;
-  double density = 0;          // kg/m^3; 0 for wall-only materials
-  double youngs_modulus = 0;   // Pa; needed by Hertz contacts and the Rayleigh estimate
-  double poisson_ratio = 0.3;
-  double stiffness = 0;        // N/m, linear normal spring
-  double restitution = 1;      // normal coefficient of restitution in (0, 1]
-  double friction = 0;         // Coulomb coefficient
-  double rolling_friction = 0; // rolling resistance coefficient mu_r
+  double density = 0;                // kg/m^3; 0 for wall-only materials
+  contact::ContactMaterial contact;  // moduli, stiffness, restitution, frictions
   double specific_heat = 0;          // J/(kg K)
   double conductivity = 0;           // W/(m K)
   double electrical_resistivity = 0; // Ohm m, shares frictional heat (0: not given)
 };
 
-// Contact law parameters for one unordered pair of materials.
+// The laws of one unordered pair of materials: mechanics (contact/) and heat conduction (thermal/).
 struct PairLaw {
-  NormalModel model = NormalModel::linear;
-  double stiffness = 0;          // linear: k (N/m)
-  double effective_modulus = 0;  // Hertz: E* with 1/E* = (1-nu1^2)/E1 + (1-nu2^2)/E2
-  double restitution = 1;        // used unless damping_rate > 0
-  double damping_rate = 0;       // gamma_n (1/s): linear dashpot c = m_eff gamma_n
-  bool tension = true;           // false: the normal force is clamped at zero (no attraction)
-  double friction = 0;
-  double tangential_stiffness_ratio = 2.0 / 7.0;  // k_t / k_n
-  double tangential_damping_ratio = 0.5;          // c_t / c_n
-  double rolling_friction = 0;
-  contact::RollingModel rolling_model = contact::RollingModel::constant;
-  double rolling_damping_ratio = 0.3;  // epsd: eta_r
-  // Heat conduction through the contact (thermal scenes).
-  thermal::ConductionModel conduction = thermal::ConductionModel::lens;
-  double conductance = 0;          // constant model: H (W/K)
-  double modulus_ratio = 1;        // batchelor_obrien: E_simulated / E_real
-  double contact_resistance = 0;   // pipe_network: R_c per unit length (m K/W)
+  contact::ContactLaw contact;
+  thermal::ConductionParams conduction;
 };
 
 // What mechanical dissipation becomes heat in the particles.
 enum class HeatFromDissipation { none, friction, all };
-
-// How a wall (all its segments, and the particles attached to it) moves as one rigid body.
-// load_controlled: a body of mass `mass` driven at `velocity` and free along the direction of the
-// constant force `load` (perpendicular to it), where the particles push it and a dashpot
-// `damping` slows it (Nguyen's shear cell: V along x, the normal load F along -y). Its weight is
-// not added: give it in `load`. Its position along the load is part of the state.
-struct WallMotion {
-  enum class Kind { fixed, translate, rotate, load_controlled } kind = Kind::fixed;
-  Vec2 velocity;        // translate, load_controlled: m/s
-  double distance = 0;  // translate: the wall stops after travelling this far (m)
-  Vec2 centre;          // rotate: centre of rotation
-  double omega = 0;     // rotate: rad/s, counter-clockwise positive
-  Vec2 load;            // load_controlled: N
-  double mass = 0;      // load_controlled: kg
-  double damping = 0;   // load_controlled: N s/m, along the load
-};
 
 // One straight wall piece. A particle touching a shared vertex is handled by exactly one of the
 // two segments meeting there (see dem_system.cpp, wall contacts).

@@ -25,7 +25,7 @@ Orifice find_orifice(const std::vector<Segment>& segments) {
 
 int driven_wall(const Scene& scene) {
   for (size_t w = 0; w < scene.walls.size(); ++w)
-    if (scene.walls[w].motion.kind == WallMotion::Kind::load_controlled) return static_cast<int>(w);
+    if (scene.walls[w].motion.free_along_load()) return static_cast<int>(w);
   return -1;
 }
 

@@ -18,6 +18,10 @@ namespace kiln::scene_parts {
 
 // Every documented key, by the schema path of its map (scene_schema.cpp).
 const KeySchema& scene_schema();
+// The keys of a `contacts:` entry: those every law reads and those of each model (read_laws.cpp).
+std::vector<std::string> contact_entry_keys();
+// The keys of a wall's motion, of every kind (wall_motion.cpp).
+std::vector<std::string> wall_motion_keys();
 
 // Checked values (scene_values.cpp).
 double length(const SceneNode& node);  // in [1e-9, 1e6] m
@@ -107,6 +111,7 @@ void read_contacts(const SceneNode& root, Scene& scene, const MaterialIndex& ind
 void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& index, ParticleSets& sets,
                     MemoryClaim& claim, std::vector<Attachment>& attachments);               // read_particles.cpp
 void read_walls(const SceneNode& root, Scene& scene, const MaterialIndex& index, MemoryClaim& claim);  // read_walls.cpp
+WallMotion read_motion(const SceneNode& m);                                                   // wall_motion.cpp
 void attach_particles(const std::vector<Attachment>& attachments, Scene& scene);              // read_walls.cpp
 void read_periodic(const SceneNode& root, Scene& scene, const ParticleSets& sets);            // read_walls.cpp
 void read_heat(const SceneNode& root, Scene& scene);                                          // read_run_settings.cpp

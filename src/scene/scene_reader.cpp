@@ -283,10 +283,13 @@ std::string SceneNode::text() const {
 }
 
 std::string SceneNode::choice(std::initializer_list<const char*> valid) const {
+  return choice(std::vector<std::string>(valid.begin(), valid.end()));
+}
+
+std::string SceneNode::choice(const std::vector<std::string>& valid) const {
   const std::string v = text();
-  for (const char* c : valid)
-    if (v == c) return v;
-  fail("unknown value '" + v + "'; valid choices are " + choices_nearest_first(v, {valid.begin(), valid.end()}));
+  if (std::find(valid.begin(), valid.end(), v) != valid.end()) return v;
+  fail("unknown value '" + v + "'; valid choices are " + choices_nearest_first(v, valid));
 }
 
 Vec2 SceneNode::vec2() const {

@@ -71,6 +71,7 @@ class SceneNode {
   bool boolean() const;
   std::string text() const;     // at most max_text_length characters
   std::string choice(std::initializer_list<const char*> valid) const;
+  std::string choice(const std::vector<std::string>& valid) const;
   Vec2 vec2() const;
 
   // Convenience: optional key with a default.

@@ -1,5 +1,5 @@
-// Walls as straight segments: flattening of boxes, polylines, circles and arcs, and the rigid
-// motion of a wall (where a wall point is at time t, and the wall's velocity at a world point).
+// Walls as straight segments: flattening of boxes, polylines, circles and arcs, and a disc's
+// contact with a segment. How walls move is src/scene/wall_motion.h.
 #pragma once
 #include <algorithm>
 #include <cmath>
@@ -53,13 +53,5 @@ inline bool disc_segment_contact(const std::vector<Segment>& segments, const std
   hit.overlap = r - dist;
   return true;
 }
-
-// Rigid-body motion of a wall (of a load-controlled wall, its driven part: the free part along the
-// load is the state's, added by DemSystem).
-Vec2 wall_point_at(const WallMotion& motion, Vec2 point0, double t);  // where point0 (at t=0) is at t
-Vec2 wall_velocity_at(const WallMotion& motion, Vec2 world_point, double t);
-// Largest distance any point of the given segments can have moved between t0 and t1.
-double wall_max_displacement(const WallMotion& motion, const std::vector<Segment>& segments, int wall,
-                             double t0, double t1);
 
 }  // namespace kiln

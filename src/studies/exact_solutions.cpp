@@ -104,8 +104,8 @@ struct FloorDiscState {
 std::optional<FloorDiscState> friction_disc_on_floor(const Scene& s, double t_end) {
   if (s.n_particles() != 1 || s.walls.size() != 1 || s.segments.size() != 1) return std::nullopt;
   const Segment& seg = s.segments[0];
-  const PairLaw& law = s.law(s.material[0], s.walls[0].material);
-  if (seg.a.y != seg.b.y || s.walls[0].motion.kind != WallMotion::Kind::fixed || law.model != NormalModel::linear ||
+  const contact::ContactLaw& law = s.law(s.material[0], s.walls[0].material).contact;
+  if (seg.a.y != seg.b.y || s.walls[0].motion.moves() || law.model != contact::NormalModel::linear ||
       law.rolling_friction > 0)
     return std::nullopt;
   const double r = s.radius[0], floor = seg.a.y;
@@ -309,7 +309,7 @@ std::optional<std::vector<double>> exact_quantity(const Scene& s, const std::str
     // Rolling without slip when tan(theta) <= mu (1 + m r^2 / I), else sliding.
     const double along = s.gravity.x, normal = -s.gravity.y;
     const double inertia_ratio = s.mass_model == MassModel::sphere ? 0.4 : 0.5;  // I / (m r^2)
-    const double mu = s.law(s.material[0], s.walls.front().material).friction;
+    const double mu = s.law(s.material[0], s.walls.front().material).contact.friction;
     const bool rolls = along / normal <= mu * (1 + 1 / inertia_ratio);
     return std::vector<double>{rolls ? along / (1 + inertia_ratio) : along - mu * normal};
   }

@@ -14,6 +14,7 @@
 
 #include <sched.h>
 
+#include "contact/normal_force.h"
 #include "src/base/error.h"
 #include "src/run/stability.h"
 #include "src/studies/exact_solutions.h"
@@ -264,11 +265,11 @@ std::vector<double> study_reference(const Scene& scene, const std::string& path,
   if (heat_stage)
     throw InputError("--heat-stage compares with the exact solution of the settled network (--reference analytic): "
                      "a fine adaptive run would adapt the settling stage too");
-  // A linear dashpot's force jumps at a contact's onset: without events an adaptive step fails to
-  // pass it at this tolerance. Hertz forces (Tsuji's dashpot ~ delta^(1/4)) are continuous there.
+  // A force that jumps at a contact's onset (the linear dashpot's): without events an adaptive step
+  // fails to pass it at this tolerance. Hertz forces (Tsuji's dashpot ~ delta^(1/4)) are continuous there.
   std::vector<std::string> tight = {assignment("rtol", fine_rtol), "atol=1e-15"};
   const bool jumps = std::any_of(scene.laws.begin(), scene.laws.end(),
-                                 [](const PairLaw& l) { return l.model == NormalModel::linear; });
+                                 [](const PairLaw& l) { return contact::force_jumps_at_touch(l.contact.model); });
   if (!scene.frozen && jumps) tight.push_back("contact_events=true");
   std::vector<StudyRun> fine = {StudyRun("erk5", fine_dt, tight)};
   run_study(path, sets, t_end, quantity, fine, 1);

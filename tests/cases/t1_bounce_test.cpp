@@ -75,7 +75,7 @@ TEST_CASE("T1 undamped: every bounce returns to the release height within a boun
 
 TEST_CASE("T1 damped: successive bounce heights fall by e^2 as the exact contact with gravity says", "[t1]") {
   const double e = 0.5;
-  const double zeta = contact::restitution_damping(e, false, true) / 2;
+  const double zeta = contact::restitution_damping(e, contact::NormalModel::linear, true) / 2;
   for (const char* integrator : {"verlet", "velocity-verlet", "velocity-verlet-predicted"}) {
     const auto s = run_t1("t1_free_fall_damped.yaml", integrator, 1e-6, 0.3);
     auto heights = s["bounce_heights"].get<std::vector<double>>();

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "contact/model_table.h"
 #include "src/run/stability.h"
 #include "src/scene/overrides.h"
 #include "tests/support.h"
@@ -64,5 +65,14 @@ TEST_CASE("Hertz collision with the Tsuji dashpot returns the requested restitut
       INFO("e = " << e << ", size ratio " << ratio);
       CHECK(measured_restitution("hertz", e, 1e-3, ratio * 1e-3, true, "velocity-verlet") == Approx(e).epsilon(0.005));
       CHECK(measured_restitution("hertz", e, 1e-3, ratio * 1e-3, false, "verlet") == Approx(e).epsilon(0.005));
+    }
+}
+
+TEST_CASE("every normal model of the table, collided head-on, returns the restitution its dashpot was solved for",
+          "[collision]") {
+  for (const auto& m : contact::normal_models())
+    for (bool tension : {true, false}) {
+      INFO(m.name << ", tension " << tension);
+      CHECK(measured_restitution(m.name, 0.6, 1e-3, 2e-3, tension, "velocity-verlet") == Approx(0.6).epsilon(0.005));
     }
 }

@@ -35,7 +35,7 @@ double error_at_end(const std::string& integrator, double e, double dt) {
   const double t_end = 0.01;
   const long steps = std::lround(t_end / dt);
   for (long s = 0; s < steps; ++s) run.step();
-  const double zeta = contact::restitution_damping(e, false, true) / 2;
+  const double zeta = contact::restitution_damping(e, contact::NormalModel::linear, true) / 2;
   const double wd = w * std::sqrt(1 - zeta * zeta);
   const double t = steps * dt;
   const double decay = std::exp(-zeta * w * t);

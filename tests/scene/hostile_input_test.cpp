@@ -141,9 +141,10 @@ TEST_CASE("a restitution outside [0.01, 1] is refused, saying why; any restituti
   // The library call itself ends whatever it is given: the bracket and the bisection are bounded
   // (it took 10 s at 1e-10 and never ended at 1e-300).
   const auto t0 = std::chrono::steady_clock::now();
-  for (bool law : {false, true}) {  // Hertz with tension, linear without: the slow ones
-    CHECK(std::isfinite(contact::restitution_damping(1e-300, law, law)));
-    CHECK(contact::restitution_for_damping(contact::restitution_damping(0.01, law, law), law, law) ==
+  using contact::NormalModel;
+  for (auto [model, tension] : {std::pair{NormalModel::hertz, true}, {NormalModel::linear, false}}) {  // the slow ones
+    CHECK(std::isfinite(contact::restitution_damping(1e-300, model, tension)));
+    CHECK(contact::restitution_for_damping(contact::restitution_damping(0.01, model, tension), model, tension) ==
           Approx(0.01).epsilon(1e-6));
   }
   CHECK(seconds_since(t0) < hang_bound);

@@ -82,7 +82,7 @@ TEST_CASE("a Hertz contact without Young's modulus is an error at the contact en
 }
 
 TEST_CASE("set overrides by dotted path and a bad path lists the nearest keys", "[errors]") {
-  CHECK(parse_scene(good, "bad.yaml", {"materials.copper.restitution=0.5"}).laws[0].restitution == 0.5);
+  CHECK(parse_scene(good, "bad.yaml", {"materials.copper.restitution=0.5"}).laws[0].contact.restitution == 0.5);
   const std::string path = error_of(good, {"materials.coper.restitution=0.5"});
   CHECK(path.find("--set: key 'materials.coper'") != std::string::npos);
   CHECK(path.find("'copper'") != std::string::npos);

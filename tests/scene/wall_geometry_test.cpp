@@ -1,4 +1,4 @@
-// Walls: the vertex rule (one force at a polyline joint), flattening tolerance, wall motion.
+// Walls: the vertex rule (one force at a polyline joint), flattening tolerance.
 #include <catch2/catch.hpp>
 #include <cmath>
 
@@ -49,22 +49,4 @@ TEST_CASE("arc flattening keeps every chord within the tolerance", "[walls]") {
     CHECK(R - norm(mid) <= tol * (1 + 1e-9));
   }
   CHECK(norm(pts.front() - pts.back()) < 1e-12);
-}
-
-TEST_CASE("a translating wall stops after its distance and a rotating wall moves at omega x r", "[walls]") {
-  WallMotion slide;
-  slide.kind = WallMotion::Kind::translate;
-  slide.velocity = {0.01, 0};
-  slide.distance = 0.001;
-  CHECK(wall_point_at(slide, {0, 0}, 0.05).x == Approx(0.0005));
-  CHECK(wall_point_at(slide, {0, 0}, 1.0).x == Approx(0.001));
-  CHECK(wall_velocity_at(slide, {0, 0}, 0.05).x == Approx(0.01));
-  CHECK(wall_velocity_at(slide, {0, 0}, 0.2).x == 0.0);
-  WallMotion drum;
-  drum.kind = WallMotion::Kind::rotate;
-  drum.omega = 2.0;
-  const Vec2 u = wall_velocity_at(drum, {0.5, 0}, 0);
-  CHECK(u.x == Approx(0).margin(1e-15));
-  CHECK(u.y == Approx(1.0));
-  CHECK(wall_point_at(drum, {1, 0}, M_PI / 4).y == Approx(1.0));  // omega t = pi/2
 }

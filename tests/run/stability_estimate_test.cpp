@@ -1,0 +1,46 @@
+// The stability estimate (src/run/stability.h) reads how fast walls move from the walls' motions
+// (WallMotion::largest_speed): every moving wall pushes discs at its speed, a load-controlled one too.
+#include <catch2/catch.hpp>
+
+#include <string>
+
+#include "src/run/stability.h"
+#include "src/scene/scene_yaml.h"
+#include "tests/support.h"
+
+using namespace kiln;
+
+namespace {
+
+// A Hertz disc at rest without gravity between a floor and a top wall moving as `motion` says:
+// nothing but the wall sets its impact speed, and a Hertz contact's duration depends on it.
+Scene disc_under_a_wall(const std::string& motion) {
+  return parse_scene(R"(name: wall_speed
+gravity: [0, 0]
+contact_model: hertz
+materials:
+  glass: {density: 2500, youngs_modulus: 1.0e8, restitution: 0.5}
+particles:
+  - {material: glass, radius: 0.001, at: [[0, 0.002]]}
+walls:
+  - {name: floor, material: glass, segment: [[-0.05, 0], [0.05, 0]]}
+  - {name: top, material: glass, segment: [[-0.05, 0.01], [0.05, 0.01]], motion: )" + motion + R"(}
+dt: 1.0e-7
+t_end: 0.01
+)",
+                     "wall_speed.yaml");
+}
+
+}  // namespace
+
+TEST_CASE("the stability estimate counts a load-controlled wall's driven speed as a translating wall's", "[stability]") {
+  // N3's top wall: driven at 4 m/s along x, free along its load. Before, its speed was left out:
+  // the impact speed was the floor of 1 mm/s, and the Hertz contact (t ~ v^-1/5) 5.2 times longer.
+  const StabilityEstimate driven = estimate_stability(
+      disc_under_a_wall("{type: load_controlled, velocity: [4.0, 0], load: [0, -1.0], mass: 0.01, damping: 1.0}"));
+  const StabilityEstimate sliding = estimate_stability(disc_under_a_wall("{type: translate, velocity: [4.0, 0]}"));
+  const StabilityEstimate resting = estimate_stability(disc_under_a_wall("{type: fixed}"));
+  CHECK(driven.impact_speed == Approx(2 * 4.0));  // two discs would meet at twice a disc's speed
+  CHECK(driven.impact_speed == sliding.impact_speed);
+  CHECK(driven.recommended_dt < resting.recommended_dt);
+}
