@@ -1,14 +1,39 @@
 // `kiln plot`: the case quantities of a run over time into DIR/plots.png (scripts/plot_case.py).
 #include <cstdio>
 #include <filesystem>
+#include <nlohmann/json.hpp>
 
 #include "src/app/command.h"
 #include "src/base/error.h"
 #include "src/base/subprocess.h"
+#include "src/scene/observer_catalogue.h"
 
 namespace kiln {
 
 namespace {
+
+// What the script is told of the case quantities: the observer catalogue's keys, so that a new
+// observer's figures are drawn and labelled without a change to it.
+const char* kind_name(ObserverKey::Kind kind) {
+  switch (kind) {
+    case ObserverKey::Kind::number: return "number";
+    case ObserverKey::Kind::list: return "list";
+    case ObserverKey::Kind::text: return "text";
+  }
+  return "";
+}
+
+std::string catalogue_keys() {
+  nlohmann::json keys = nlohmann::json::array();
+  for (const ObserverEntry& entry : observer_catalogue())
+    for (const ObserverKey& k : entry.keys)
+      keys.push_back({{"path", k.path},
+                      {"kind", kind_name(k.kind)},
+                      {"unit", k.unit},
+                      {"meaning", k.meaning},
+                      {"against", k.against}});
+  return keys.dump();
+}
 
 class PlotCommand final : public Command {
  public:
@@ -24,8 +49,8 @@ class PlotCommand final : public Command {
     if (!std::filesystem::exists(summary))
       throw InputError("kiln plot: " + summary + " not found: give the output directory of a run (kiln run "
                        "SCENE --out DIR)");
-    const ProgramResult r =
-        run_program({"/usr/bin/python3", std::string(KILN_SCRIPTS_DIR) + "/plot_case.py", dir_});
+    const ProgramResult r = run_program(
+        {"/usr/bin/python3", std::string(KILN_SCRIPTS_DIR) + "/plot_case.py", dir_, "--keys", catalogue_keys()});
     std::fprintf(stderr, "%s", r.errors.c_str());  // the script's warnings and errors
     if (r.status != 0) {
       std::fprintf(stderr, "error: %s/plots.png not written (it needs Debian's /usr/bin/python3 with matplotlib and "

@@ -52,6 +52,17 @@ class StudyCommand final : public Command {
   Options o_;
 };
 
+// What order and wp compare: the quantity, and the reference with its tolerance when it is a fine run.
+template <class Options>
+void add_reference_options(CLI::App* cli, Options& o, const char* references) {
+  cli->add_option("--quantity", o.quantity,
+                  "position, velocity, temperature or a case quantity (default: temperature on a frozen scene, "
+                  "else position)");
+  cli->add_option("--reference", o.reference, references);
+  cli->add_option("--fine-rtol", o.fine_rtol, "tolerance of the fine reference (default 1e-11)")
+      ->check(positive_finite);
+}
+
 }  // namespace
 
 std::unique_ptr<Command> add_order_command(CLI::App& app) {
@@ -65,12 +76,7 @@ std::unique_ptr<Command> add_order_command(CLI::App& app) {
   cli->add_option("--dt", o.dt, "the coarsest step (s)")->required()->check(positive_finite);
   cli->add_option("--levels", o.levels, "number of step sizes")->check(CLI::Range(2, 30));
   cli->add_option("--ratio", o.ratio, "dt_{k+1} = dt_k / ratio (default 2)")->check(CLI::Range(1.01, 1000.0));
-  cli->add_option("--quantity", o.quantity,
-                  "position, velocity, temperature or a case quantity (default: temperature on a frozen scene, "
-                  "else position)");
-  cli->add_option("--reference", o.reference, "analytic | richardson | fine");
-  cli->add_option("--fine-rtol", o.fine_rtol, "tolerance of the fine reference (default 1e-11)")
-      ->check(positive_finite);
+  add_reference_options(cli, o, "analytic | richardson | fine");
   return command;
 }
 
@@ -95,12 +101,7 @@ std::unique_ptr<Command> add_wp_command(CLI::App& app) {
   cli->add_option("--integrators", o.integrators, "comma-separated names")->required()->delimiter(',');
   cli->add_option("--dts", o.dts, "fixed steps (s)")->delimiter(',')->check(positive_finite);
   cli->add_option("--rtols", o.rtols, "tolerances (adaptive)")->delimiter(',')->check(positive_finite);
-  cli->add_option("--quantity", o.quantity,
-                  "position, velocity, temperature or a case quantity (default: temperature on a frozen scene, "
-                  "else position)");
-  cli->add_option("--reference", o.reference, "analytic | fine");
-  cli->add_option("--fine-rtol", o.fine_rtol, "tolerance of the fine reference (default 1e-11)")
-      ->check(positive_finite);
+  add_reference_options(cli, o, "analytic | fine");
   cli->add_option("--seeds", o.seeds, "chaotic scenes: average a scalar over this many fills (noise floor shown)");
   cli->add_option("--seed-key", o.seed_key, "the key --seeds varies (default particles.0.fill.seed)");
   cli->add_option("--repeats", o.repeats, "timed runs after a warm-up")->check(CLI::Range(1, 1000));

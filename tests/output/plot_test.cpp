@@ -75,6 +75,21 @@ TEST_CASE("a history that a new case writes into summary.json appears in kiln pl
   fs::remove_all(dir);
 }
 
+TEST_CASE("kiln plot labels the case quantities by the observer catalogue and lists their figures", "[plot]") {
+  const fs::path dir = testing::fresh_dir("plot_catalogue");
+  fs::create_directories(dir);
+  std::ofstream(dir / "summary.json") << R"({"scene": "pile", "integrator": "velocity-verlet", "t_end": 1,
+    "heap_angle_deg": 31.5, "packing_fraction": null,
+    "mixing_history": {"time": [0, 1], "lacey_index": [0.1, 0.4]}})";
+  const auto [status, output] = plot(dir);
+  INFO(output);
+  REQUIRE(status == 0);
+  const std::string png = read_all(dir / "plots.png");
+  CHECK_THAT(png, Catch::Contains("mixing_history: lacey_index: Lacey's mixing index"));  // its meaning
+  CHECK_THAT(png, Catch::Contains("case figures: heap_angle_deg, packing_fraction"));      // null: not measured
+  fs::remove_all(dir);
+}
+
 TEST_CASE("kiln plot on a directory without summary.json fails naming it and writes nothing", "[plot]") {
   const fs::path dir = testing::fresh_dir("plot_empty");
   fs::create_directories(dir);
