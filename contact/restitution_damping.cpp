@@ -73,7 +73,7 @@ double restitution_of(double beta, bool tension) {
 }
 
 // Restitution falls monotonically with beta: bracket by doubling, then bisect. Scenes give
-// e >= 0.01 (scene_yaml.cpp), which every law reaches below beta = 16; the bracket stops at
+// e >= 0.01 (src/scene/scene_values.cpp), which every law reaches below beta = 16; the bracket stops at
 // beta = 1024 (e about 1e-4 without tension, 0 with it), so that no e, however small, makes it grow
 // without end, and the bisection stops after 60 halvings.
 double bisect_damping(double e, NormalModel model, bool tension) {

@@ -20,11 +20,9 @@ constexpr int max_materials = 16;
 
 // The keys of a `contacts:` entry that every law reads; the others belong to some models of a law
 // and are listed in its table.
-const char* const common_keys[] = {"between",       "model",
-                                   "restitution",   "tension",
-                                   "friction",      "rolling_friction",
-                                   "rolling_model", "tangential_stiffness_ratio",
-                                   "tangential_damping_ratio", "conduction"};
+const char* const common_keys[] = {"between", "model", "restitution", "tension", "friction", "rolling_friction",
+                                   "rolling_model", "tangential_stiffness_ratio", "tangential_damping_ratio",
+                                   "conduction"};
 
 Material read_material(const std::string& name, const SceneNode& m) {
   m.allow();
@@ -130,11 +128,13 @@ std::vector<std::string> contact_entry_keys() {
 void read_contacts(const SceneNode& root, Scene& scene, const MaterialIndex& index,
                    std::vector<Location>& law_location) {
   const int nm = scene.n_materials();
-  contact::NormalModel model = contact::NormalModel::linear;
+  // The scene's models for every pair, unless given: the laws' own defaults.
+  const PairLaw defaults;
+  contact::NormalModel model = defaults.contact.model;
   if (auto m = root.optional("contact_model")) model = read_model(*m, contact::normal_models());
-  thermal::ConductionModel conduction = thermal::ConductionModel::lens;
+  thermal::ConductionModel conduction = defaults.conduction.model;
   if (auto c = root.optional("conduction_model")) conduction = read_model(*c, thermal::conduction_models());
-  contact::RollingModel rolling = contact::RollingModel::constant;
+  contact::RollingModel rolling = defaults.contact.rolling_model;
   if (auto r = root.optional("rolling_model")) rolling = read_model(*r, contact::rolling_models());
   scene.laws.resize(nm * nm);
   law_location.assign(nm * nm, root.location());
