@@ -22,7 +22,6 @@ void catch_stop_signals() {
 }
 
 int stop_signal() { return received; }
-void set_stop_signal(int signal) { received = signal; }
 const char* signal_name(int signal) { return signal == SIGINT ? "SIGINT" : signal == SIGTERM ? "SIGTERM" : "a signal"; }
 
 }  // namespace kiln

@@ -10,8 +10,6 @@ namespace kiln {
 void catch_stop_signals();
 // The signal received since, or 0.
 int stop_signal();
-// For tests: as if `signal` had been received (0 clears).
-void set_stop_signal(int signal);
 // "SIGINT" or "SIGTERM".
 const char* signal_name(int signal);
 

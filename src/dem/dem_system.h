@@ -113,9 +113,8 @@ class DemSystem final : public OdeSystem {
   int vy_at() const { return layout_.nq + n_; }
   int omega_at() const { return rotates_ ? layout_.nq + 2 * n_ : -1; }
   // Load-controlled walls: each one's position along its load (m) and its speed (m/s), after the
-  // particles' fields; body k is wall body_wall(k).
+  // particles' fields, in the order of the walls.
   int bodies() const { return static_cast<int>(body_wall_.size()); }
-  int body_wall(int k) const { return body_wall_[k]; }
   int body_at() const { return (rotates_ ? 3 : 2) * n_; }
   int body_speed_at() const { return layout_.nq + body_at(); }
   // Whether particle i moves with a wall (or is fixed) instead of under its forces.

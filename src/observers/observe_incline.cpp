@@ -20,7 +20,7 @@ class InclineObserver final : public Observer {
     const double vx = y[sys_.vx_at()];
     const double w = sys_.rotates() ? y[sys_.omega_at()] : 0.0;
     out["incline_acceleration"] = slope;
-    out["slip_ratio"] = 1 + w * sys_.radius(0) / vx;
+    out["slip_ratio"] = number_or_null(1 + w * sys_.radius(0) / vx);
   }
   void state(ObserverState& s) override {
     s.field("fit_n", fit_.n);

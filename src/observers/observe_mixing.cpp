@@ -69,7 +69,7 @@ class MixingObserver final : public Observer {
         sum += tilt_[k];
         count += 1;
       }
-    out["dynamic_angle_of_repose_deg"] = sum / count;
+    out["dynamic_angle_of_repose_deg"] = number_or_null(sum / count);
   }
   void state(ObserverState& s) override {
     s.field("next", next_);

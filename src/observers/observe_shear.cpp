@@ -144,10 +144,10 @@ class ShearObserver final : public Observer {
     const double per_length = 1 / length_;
     out["shear_stress"] = shear * per_length;
     out["normal_stress"] = normal * per_length;
-    out["effective_friction"] = shear / normal;
+    out["effective_friction"] = number_or_null(shear / normal);
     const double rate = speed_ / gap;
     out["shear_rate"] = rate;
-    out["inertial_number"] = rate * diameter_ * std::sqrt(density_ / (normal * per_length));
+    out["inertial_number"] = number_or_null(rate * diameter_ * std::sqrt(density_ / (normal * per_length)));
   }
 
   void state(ObserverState& s) override {

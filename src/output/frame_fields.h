@@ -1,6 +1,6 @@
 // The datasets of frames in result.h5, declared once. Writing them (output_h5.cpp) and describing
-// them for ParaView (output_xdmf.cpp) walk this table: a new field is a row here and the line of
-// run_outputs.cpp that points the frame at its values.
+// them for ParaView (output_xdmf.cpp) walk this table: a new field is its FrameField value and its
+// row here, and the line of run_outputs.cpp that points the frame at its values.
 #pragma once
 #include <cstddef>
 
@@ -10,8 +10,9 @@ enum class FrameField {
   time, position, velocity, angle, angular_velocity, temperature,  // particles
   wall_segments,                                                   // when walls move
   wall_force, wall_torque, wall_power,                             // when there are walls
+  count                                                            // (not a field: how many there are)
 };
-inline constexpr int frame_field_count = 10;
+inline constexpr int frame_field_count = static_cast<int>(FrameField::count);
 
 // What one frame of a field holds: its second dimension.
 enum class FrameOf { run, particles, segments, walls };
@@ -64,7 +65,7 @@ constexpr const FrameFieldInfo& frame_field(FrameField f) { return frame_fields[
 constexpr bool frame_fields_in_order() {
   for (int k = 0; k < frame_field_count; ++k)
     if (static_cast<int>(frame_fields[k].field) != k) return false;
-  return static_cast<int>(FrameField::wall_power) + 1 == frame_field_count;
+  return true;
 }
 static_assert(frame_fields_in_order(), "frame_fields lists every FrameField once, in the enum's order");
 

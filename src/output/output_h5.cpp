@@ -1,6 +1,7 @@
 #include "src/output/output_h5.h"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "src/base/error.h"
 #include "src/base/h5_errors.h"
@@ -19,7 +20,7 @@ H5Frames::H5Frames(const std::string& path, const ResultLayout& layout) : path_(
     throw;
   }
   triple_buffer_.resize(3 * std::max(layout_.particles, layout_.walls));
-  zeros_.assign(layout_.particles, 0.0);
+  zeros_.assign(std::max({layout_.particles, layout_.walls, layout_.segments}), 0.0);  // a null field of any item
 }
 
 H5Frames::H5Frames(const std::string& path, const ResultLayout& layout, int keep) : path_(path), layout_(layout) {
@@ -36,7 +37,7 @@ H5Frames::H5Frames(const std::string& path, const ResultLayout& layout, int keep
   }
   frames_ = keep;
   triple_buffer_.resize(3 * std::max(layout_.particles, layout_.walls));
-  zeros_.assign(layout_.particles, 0.0);
+  zeros_.assign(std::max({layout_.particles, layout_.walls, layout_.segments}), 0.0);  // a null field of any item
 }
 
 H5Frames::~H5Frames() { abandon(); }
@@ -159,6 +160,7 @@ void H5Frames::extend_and_write(FrameField f, const double* data) {
 const double* H5Frames::as_written(const FrameFieldInfo& f, const double* values) {
   const int n = static_cast<int>(shape(f).dims[0]);
   if (!values && f.zeros_when_absent) return zeros_.data();
+  if (!values) throw std::logic_error(std::string("a frame without its values of '") + f.name + "'");
   if (f.layout == FrameLayout::x_block_y_block) {
     for (int i = 0; i < n; ++i) {
       triple_buffer_[3 * i] = values[i];

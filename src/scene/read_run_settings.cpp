@@ -36,8 +36,6 @@ void check_integrators(const SceneNode& root, const Scene& scene) {
     if (const auto i = freeze->optional("integrator")) check(&*i, scene.freeze.integrator, false);
 }
 
-// The steps: integrator, tolerances, dt, t_end and frames.
-
 }  // namespace
 
 void read_heat(const SceneNode& root, Scene& scene) {
@@ -76,6 +74,7 @@ void read_heat(const SceneNode& root, Scene& scene) {
       root["walls"].items()[w]["temperature"].fail("this scene carries no temperatures (give particle sets a 'temperature')");
 }
 
+// The steps: integrator, tolerances, dt, t_end and frames.
 void read_stepping(const SceneNode& root, Scene& scene) {
   if (auto i = root.optional("integrator")) scene.integrator = i->text();
   // Below 1e-14 no integrator can meet the tolerance in double precision: ARKODE fails its steps.

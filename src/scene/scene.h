@@ -43,7 +43,7 @@ struct PairLaw {
 enum class HeatFromDissipation { none, friction, all };
 
 // One straight wall piece. A particle touching a shared vertex is handled by exactly one of the
-// two segments meeting there (see dem_system.cpp, wall contacts).
+// two segments meeting there (disc_segment_contact, src/scene/wall_geometry.h).
 struct Segment {
   Vec2 a, b;              // endpoints at t = 0
   int wall = 0;           // index of the wall it came from (motion, material)

@@ -60,7 +60,6 @@ class SceneNode {
   std::vector<std::pair<std::string, SceneNode>> entries() const;  // a map, in file order
   bool is_map() const { return node_.IsMap(); }
   bool is_sequence() const { return node_.IsSequence(); }
-  bool is_scalar() const { return node_.IsScalar(); }
 
   double number(const char* expected = "a number") const;  // finite
   double positive() const;      // > 0 and normal (a subnormal 1e-320 has lost its digits)
