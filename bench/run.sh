@@ -1,11 +1,18 @@
 #!/usr/bin/env bash
-# bench/run.sh [--quick] [--build-dir DIR]: kiln against LAMMPS and LIGGGHTS on the pile of
-# shared/BENCH.md, every code on the same settled pile, in one run on this machine.
+# bench/run.sh [--quick | --smoke [--record]] [--build-dir DIR]: kiln against LAMMPS and LIGGGHTS
+# on the pile of shared/BENCH.md, every code on the same settled pile, in one run on this machine.
 #
 #   bench/run.sh           the full run (about an hour on 2 cores): 1,000, 10,000 and 100,000 discs
 #                          resting, 10,000 flowing, heat (LIGGGHTS' fix heat/gran/conduction),
 #                          ARKODE, 2 threads on 100,000; 5 alternating pairs (3 at 100,000)
 #   bench/run.sh --quick   the same figures from fewer steps and repeats, in under 10 minutes
+#   bench/run.sh --smoke   the guard against a regression, under a minute after the build: the
+#                          1,000-disc pile, kiln and LAMMPS alternately (7 pairs), and the ratio
+#                          kiln/LAMMPS against the one recorded in bench/baseline.json at the last
+#                          release. One line; exit 1 when it is below 0.9 of the baseline's.
+#   --record               with --smoke: write the measured ratio to bench/baseline.json (a release)
+#   --kiln BINARY          time this kiln binary instead of building one (an earlier release's;
+#                          BENCH_COMMIT=<commit> names it in a recorded baseline)
 #   --build-dir DIR        kiln's build directory (default build, or $KILN_BUILD_DIR): configured
 #                          and built as Release here if needed
 #
@@ -23,17 +30,25 @@ set -euo pipefail
 here=$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)
 root=$(dirname "$here")
 quick=0
+smoke=0
+record=0
+kiln_given=""
 build=${KILN_BUILD_DIR:-$root/build}
 while [ $# -gt 0 ]; do
   case $1 in
     --quick) quick=1 ;;
+    --smoke) smoke=1 ;;
+    --record) record=1 ;;
+    --kiln) [ $# -ge 2 ] || { echo "--kiln needs a binary" >&2; exit 2; }; kiln_given=$2; shift ;;
     --build-dir) [ $# -ge 2 ] || { echo "--build-dir needs a directory" >&2; exit 2; }; build=$2; shift ;;
     -h|--help) sed -n '2,/^set -euo/p' "$0" | sed '$d; s/^# \{0,1\}//'; exit 0 ;;
-    *) echo "unknown argument '$1'; usage: bench/run.sh [--quick] [--build-dir DIR]" >&2; exit 2 ;;
+    *) echo "unknown argument '$1'; usage: bench/run.sh [--quick | --smoke [--record]] [--build-dir DIR | --kiln BINARY]" >&2; exit 2 ;;
   esac
   shift
 done
 case $build in /*) ;; *) build=$root/$build ;; esac
+[ $record = 0 ] || [ $smoke = 1 ] || { echo "--record goes with --smoke" >&2; exit 2; }
+[ $quick = 0 ] || [ $smoke = 0 ] || { echo "--quick and --smoke are different runs: choose one" >&2; exit 2; }
 
 started=$(date +%s)
 stamp=$(date +%Y%m%d-%H%M%S)
@@ -60,20 +75,25 @@ have_liggghts=0
 command -v liggghts >/dev/null && have_liggghts=1
 [ $have_liggghts = 1 ] || echo "warning: no LIGGGHTS: its rows and ratios are left out" >&2
 
-# ---- kiln, a Release build ----
-if [ ! -f "$build/CMakeCache.txt" ]; then
-  echo "configuring kiln in $build (Release)"
-  cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+# ---- kiln, a Release build (or the binary given) ----
+if [ -n "$kiln_given" ]; then
+  [ -x "$kiln_given" ] || { echo "error: --kiln $kiln_given is not an executable" >&2; exit 2; }
+  kiln=$(cd "$(dirname "$kiln_given")" && pwd)/$(basename "$kiln_given")
+else
+  if [ ! -f "$build/CMakeCache.txt" ]; then
+    echo "configuring kiln in $build (Release)"
+    cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+  fi
+  grep -q '^CMAKE_BUILD_TYPE:STRING=Release$' "$build/CMakeCache.txt" ||
+    { echo "error: $build is not a Release build: timings of it would mean nothing (use --build-dir)" >&2; exit 1; }
+  if grep -q '^KILN_SANITIZE:BOOL=ON$' "$build/CMakeCache.txt"; then
+    echo "error: $build is built with the sanitizers (use --build-dir)" >&2; exit 1
+  fi
+  echo "building kiln in $build"
+  cmake --build "$build" --target kiln >"$logs/build.log" 2>&1 ||
+    { tail -n 30 "$logs/build.log"; echo "error: kiln did not build: see $logs/build.log" >&2; exit 1; }
+  kiln=$build/kiln
 fi
-grep -q '^CMAKE_BUILD_TYPE:STRING=Release$' "$build/CMakeCache.txt" ||
-  { echo "error: $build is not a Release build: timings of it would mean nothing (use --build-dir)" >&2; exit 1; }
-if grep -q '^KILN_SANITIZE:BOOL=ON$' "$build/CMakeCache.txt"; then
-  echo "error: $build is built with the sanitizers (use --build-dir)" >&2; exit 1
-fi
-echo "building kiln in $build"
-cmake --build "$build" --target kiln >"$logs/build.log" 2>&1 ||
-  { tail -n 30 "$logs/build.log"; echo "error: kiln did not build: see $logs/build.log" >&2; exit 1; }
-kiln=$build/kiln
 
 # ---- the piles, once ----
 pile() {  # pile COLUMNS FILE: kiln settles 50 rows x COLUMNS and writes the pile
@@ -82,6 +102,43 @@ pile() {  # pile COLUMNS FILE: kiln settles 50 rows x COLUMNS and writes the pil
   OMP_NUM_THREADS=1 "$kiln" bench --write-pile "$2" --columns "$1"
 }
 pile 20 "$piles/pile_1k.data"
+if [ $smoke = 1 ]; then
+  smoke_started=$(date +%s)
+  # What the recorded figure is of: this tree's commit, or for --kiln what BENCH_COMMIT says.
+  commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
+  [ -z "$kiln_given" ] || commit=${BENCH_COMMIT:-"binary $(basename "$kiln_given")"}
+  echo "repeat,kiln_rate,lammps_rate" >"$csv"
+  for repeat in $(seq 7); do
+    OMP_NUM_THREADS=1 "$kiln" bench --pile "$piles/pile_1k.data" --steps 6000 --warmup 500 >"$logs/kiln-$repeat.log" 2>&1 ||
+      { tail -n 15 "$logs/kiln-$repeat.log"; exit 1; }
+    OMP_NUM_THREADS=1 lmp -in "$here/in.lammps" -var pile "$piles/pile_1k.data" -var warmup 500 -var steps 6000 \
+      -var gx 0 -var gy -1 -log none >"$logs/lammps-$repeat.log" 2>&1 || { tail -n 15 "$logs/lammps-$repeat.log"; exit 1; }
+    k=$(sed -n 's/^kiln-bench: .* particle_steps_per_s=\([^ ]*\).*/\1/p' "$logs/kiln-$repeat.log")
+    l=$(awk '/^Loop time of/ && $9 == 6000 { printf "%.6g\n", $12 * 6000 / $4 }' "$logs/lammps-$repeat.log")
+    echo "$repeat,$k,$l" >>"$csv"
+  done
+  python3 - "$csv" "$here/baseline.json" "$record" "$commit" \
+    "$(($(date +%s) - smoke_started))" <<'PY'
+import csv, datetime, json, os, platform, statistics, sys
+runs, baseline_path, record, commit, seconds = sys.argv[1], sys.argv[2], sys.argv[3] == "1", sys.argv[4], sys.argv[5]
+rows = list(csv.DictReader(open(runs)))
+ratios = [float(r["kiln_rate"]) / float(r["lammps_rate"]) for r in rows]
+ratio = statistics.median(ratios)
+cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), platform.machine())
+if record:
+    json.dump({"kiln_per_lammps_1000": round(ratio, 3), "pairs": len(ratios), "pair_range": [round(min(ratios), 3), round(max(ratios), 3)],
+               "commit": commit, "date": datetime.date.today().isoformat(), "machine": f"{cpu}, {os.cpu_count()} cores"},
+              open(baseline_path + ".tmp", "w"), indent=2)
+    os.replace(baseline_path + ".tmp", baseline_path)
+base = json.load(open(baseline_path))
+against = ratio / base["kiln_per_lammps_1000"]
+print(f"smoke: kiln/LAMMPS particle-steps/s {ratio:.2f} at N=1000 (median of {len(ratios)} alternating pairs, "
+      f"{min(ratios):.2f}-{max(ratios):.2f}, {seconds} s); baseline {base['kiln_per_lammps_1000']:.2f} "
+      f"(kiln {base['commit']}, {base['date']}): {against:.2f}x the baseline" + (" (recorded now)" if record else ""))
+sys.exit(0 if against >= 0.9 else 1)
+PY
+  exit $?
+fi
 pile 200 "$piles/pile_10k.data"
 if [ -s "$piles/pile_100k.data" ]; then
   echo "pile: reusing $piles/pile_100k.data"

@@ -34,7 +34,7 @@ struct ContactFrame {
 // Within a step contact normals turn by far less than 0.01 rad, where the odd series of asin to
 // x^7 is exact to double precision (the next term is below 1e-19 x); atan2 elsewhere. atan2 in
 // the force loop cost 20 % of a run.
-inline double turn_angle(double sine, double cosine) {
+[[gnu::always_inline]] inline double turn_angle(double sine, double cosine) {
   if (cosine > 0 && std::abs(sine) < 1e-2) {
     const double x2 = sine * sine;
     return sine * (1 + x2 * (1.0 / 6 + x2 * (3.0 / 40 + x2 * (15.0 / 336))));
@@ -45,7 +45,7 @@ inline double turn_angle(double sine, double cosine) {
 // Relative tangential displacement of the contact points from frame a to frame b (m), along b's
 // t. `arm_a`, `arm_b`: i's lever arms in the two frames; `spun_i`, `spun_other`: how far i and
 // the other body turned from a to b (rad).
-inline double tangential_displacement(const ContactFrame& a, const ContactFrame& b, double arm_a, double arm_b,
+[[gnu::always_inline]] inline double tangential_displacement(const ContactFrame& a, const ContactFrame& b, double arm_a, double arm_b,
                                       double spun_i, double spun_other) {
   const double turned = turn_angle(a.nx * b.ny - a.ny * b.nx, a.nx * b.nx + a.ny * b.ny);  // phi_b - phi_a
   return (b.rho_t - a.rho_t) + 0.5 * (a.rho_n + b.rho_n) * (turned - spun_other) +

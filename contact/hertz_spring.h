@@ -13,6 +13,7 @@
 namespace kiln::contact {
 
 struct HertzSpring {
+  static constexpr NormalModel model = NormalModel::hertz;
   static double force(double k, double c, double overlap, double speed) {
     const double root = std::sqrt(std::fmax(overlap, 0.0));  // continued by 0 past separation
     return k * overlap * root + c * std::sqrt(root) * speed;

@@ -12,6 +12,7 @@
 namespace kiln::contact {
 
 struct LinearSpring {
+  static constexpr NormalModel model = NormalModel::linear;
   static double force(double k, double c, double overlap, double speed) { return k * overlap + c * speed; }
   static double spring(double k, double overlap) { return k * overlap; }
   // Elastic energy stored in the spring: k delta^2 / 2.

@@ -8,6 +8,7 @@
 // model is its struct, a case there and a row of contact/model_table.cpp.
 #pragma once
 #include <cmath>
+#include <type_traits>
 
 #include "contact/contact_law.h"
 #include "contact/hertz_spring.h"
@@ -37,6 +38,13 @@ struct NormalLaw {
   bool tension = true;  // false: no attractive force (F_n clamped at 0)
 };
 
+// The law with its model fixed to M's (M = void: the law's own): in a loop compiled for one model
+// the model's switch in every function below folds away.
+template <class M>
+NormalLaw with_model_of(NormalLaw law) {
+  if constexpr (!std::is_void_v<M>) law.model = M::model;
+  return law;
+}
 // Normal force magnitude on the pair (positive pushes the bodies apart). `overlap` > 0.
 inline double normal_force(const NormalLaw& law, double overlap, double approach_speed) {
   const double f =

@@ -33,7 +33,7 @@ struct TangentialResult {
 // `elongation`: the trial elongation of this state (m); `slip_speed`: the tangential relative
 // velocity of i's contact point against the other body's, along t (m/s); `normal` = F_n (N): a
 // tensile contact (F_n <= 0) holds no friction.
-inline TangentialResult tangential_force(const TangentialLaw& law, double elongation, double slip_speed,
+[[gnu::always_inline]] inline TangentialResult tangential_force(const TangentialLaw& law, double elongation, double slip_speed,
                                          double normal) {
   TangentialResult r;
   r.spring = elongation;

@@ -24,25 +24,28 @@ void VelocityVerlet::step() {
   double *q = this->q(), *v = this->v(), *z = this->z();
   const double* a = accel();          // a_n now, a_{n+1} after the evaluation below
   const double* zrate = this->zrate();
-#pragma omp parallel for schedule(static) if (parallel_worthwhile(nq))
-  for (int k = 0; k < nq; ++k) {
-    v_half_[k] = v[k] + 0.5 * h * a[k];  // II.25
-    q[k] += h * v_half_[k];              // II.26
-    v[k] = predicted_ ? v_half_[k] + 0.5 * h * a[k] : v_half_[k];  // v* seen by the force
-  }
-  // works: trapezoidal forces times the step's displacement h v_{n+1/2}
-  if (works_ > 0) work_before(v_half_.data(), h);
+  // II.25, II.26 and the velocity v* the force sees, block by block with the works' trapezoidal
+  // forces times the step's displacement h v_{n+1/2} (with no works the sums are empty).
+  auto kick_drift = [&](int begin, int end) {
+    for (int k = begin; k < end; ++k) {
+      v_half_[k] = v[k] + 0.5 * h * a[k];  // II.25
+      q[k] += h * v_half_[k];              // II.26
+      v[k] = predicted_ ? v_half_[k] + 0.5 * h * a[k] : v_half_[k];
+    }
+  };
+  work_before(v_half_.data(), h, kick_drift);
   std::copy_n(z, nz, z_old_.data());
   std::copy_n(zrate, nz, zrate_old_.data());
   for (int k = 0; k < nz; ++k) z[k] += h * zrate_old_[k];
 
   const double t_next = next_time();
   evaluate(t_next, y_, 0);
-  // v_{n+1/2} is what the force saw unless it saw the prediction: then one sum serves both.
-  if (works_ > 0) work_after(v, predicted_ ? v_half_.data() : v, h);
-
-#pragma omp parallel for schedule(static) if (parallel_worthwhile(nq))
-  for (int k = 0; k < nq; ++k) v[k] = v_half_[k] + 0.5 * h * a[k];  // II.27 with a = a_{n+1}
+  // v_{n+1/2} is what the force saw unless it saw the prediction: then one sum serves both. The
+  // kick II.27 (a = a_{n+1}) follows each block's sums, which read the velocities it overwrites.
+  auto kick = [&](int begin, int end) {
+    for (int k = begin; k < end; ++k) v[k] = v_half_[k] + 0.5 * h * a[k];
+  };
+  work_after(v, predicted_ ? v_half_.data() : v, h, kick);
 #pragma omp parallel for schedule(static) if (parallel_worthwhile(nz))
   for (int k = 0; k < nz; ++k) z[k] = z_old_[k] + 0.5 * h * (zrate_old_[k] + zrate[k]);
   if (slope_correction_) {
@@ -57,7 +60,7 @@ void VelocityVerlet::step() {
       system_->implicit_jacobian_times(t_next, y_, dz_.data(), jdz_.data());
     for (int k = 0; k < nz; ++k) rate_[2 * nq + k] += jdz_[2 * nq + k];
   }
-  if (works_ > 0) book_work(z_old_.data(), 0.5 * h, 0.5 * h);
+  book_work(z_old_.data(), 0.5 * h, 0.5 * h);
   advance_time();
   ++stats_.steps;
 }

@@ -78,12 +78,20 @@ class VerletFamily : public Integrator {
   }
   // The works are booked from the system's work forces g (which stay in the system: no copies)
   // along the step's displacement scale * dir: before the step's evaluation with g of the
-  // previous one, after it with the new g. Sums in fixed blocks (parallel.h).
-  void work_before(const double* dir, double scale) {
+  // previous one, after it with the new g. Sums in fixed blocks (parallel.h). A scheme may fuse a
+  // loop of its step with a sum: `first(begin, end)` runs on each block's indices before its terms
+  // are summed (it may write dir there), `then(begin, end)` after them (it may overwrite v): one
+  // pass over the state instead of two.
+  struct NoLoop {
+    void operator()(int, int) const {}
+  };
+  template <class First = NoLoop>
+  void work_before(const double* dir, double scale, First first = {}) {
     const int nq = layout_.nq, works = works_;
     const double* g = nullptr;
     system_->work_components(&g);
     const auto s = fixed_order_sums<3>(nq, sums3_, [&](int begin, int end, double* out) {
+      first(begin, end);
       for (int c = 0; c < works; ++c) add_dot(g + c * nq, dir, begin, end, out[c]);
     });
     for (int c = 0; c < works; ++c) along_old_[c] = scale * s[c];
@@ -91,7 +99,8 @@ class VerletFamily : public Integrator {
   // After an evaluation at velocities v: what of each work rate is not g . v (e.g. moving walls'
   // part), booked by the z rule; and (dir non-null) the new g along the displacement (one sum
   // when dir is v).
-  void work_after(const double* v, const double* dir, double scale) {
+  template <class Then = NoLoop>
+  void work_after(const double* v, const double* dir, double scale, Then then = {}) {
     const int nq = layout_.nq, works = works_;
     const double* g = nullptr;
     system_->work_components(&g);
@@ -101,6 +110,7 @@ class VerletFamily : public Integrator {
         add_dot(g + c * nq, v, begin, end, out[c]);
         if (both) add_dot(g + c * nq, dir, begin, end, out[3 + c]);
       }
+      then(begin, end);
     });
     if (!both)
       for (int c = 0; c < 3; ++c) s[3 + c] = dir ? s[c] : 0.0;

@@ -6,6 +6,9 @@
 #include <algorithm>
 #include <array>
 #include <vector>
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 namespace kiln {
 
@@ -15,6 +18,16 @@ inline int block_count(int n) { return (n + sum_block - 1) / sum_block; }
 // Whether a loop over n items is worth the threads: below this a parallel region's start and
 // join (a few microseconds) cost more than the loop (two discs bouncing take 10^6 steps).
 inline bool parallel_worthwhile(long n) { return n >= 8192; }
+// The threads a parallel region may have.
+inline int thread_limit() {
+#ifdef _OPENMP
+  return omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+// Whether a loop over n items runs on more than one thread.
+inline bool runs_threaded(long n) { return parallel_worthwhile(n) && thread_limit() > 1; }
 
 // K sums over [0, n) in fixed blocks: block(begin, end, out) adds the terms of indices
 // [begin, end) to out[0..K), in order. `partial` is the caller's scratch (sized here; no
@@ -35,11 +48,20 @@ std::array<double, K> fixed_order_sums(int n, std::vector<std::array<double, K>>
   return total;
 }
 
-// sum_k a[k] b[k] over [begin, end), added to out.
+// sum_k a[k] b[k] over [begin, end), added to out. Four partial sums (indices by their remainder
+// mod 4 from begin, added pairwise at the end): one running sum waits for each addition before the
+// next (four cycles an element), four in flight fill the adder, and the order stays fixed.
 inline void add_dot(const double* a, const double* b, int begin, int end, double& out) {
-  double s = 0;
-  for (int k = begin; k < end; ++k) s += a[k] * b[k];
-  out += s;
+  double s0 = 0, s1 = 0, s2 = 0, s3 = 0;
+  int k = begin;
+  for (; k + 3 < end; k += 4) {
+    s0 += a[k] * b[k];
+    s1 += a[k + 1] * b[k + 1];
+    s2 += a[k + 2] * b[k + 2];
+    s3 += a[k + 3] * b[k + 3];
+  }
+  for (; k < end; ++k) s0 += a[k] * b[k];
+  out += (s0 + s1) + (s2 + s3);
 }
 
 }  // namespace kiln

@@ -11,9 +11,9 @@
 
 namespace kiln {
 
-inline void DemSystem::forget(ContactList& list, int p) {
+inline void DemSystem::forget(const ContactArrays& list, int p) {
   list.trial[p] = 0;
-  list.trial_roll[p] = 0;
+  if (list.rolling) list.trial_roll[p] = 0;
   list.trial_frame[p] = {};
 }
 
@@ -41,18 +41,22 @@ inline contact::RollingLaw DemSystem::rolling_law(const ContactCoefficients& lf,
 // The normal force, then (with history) the tangential and rolling springs: their trial values
 // are the committed ones plus what the contact points moved since the committed frame. Inlined
 // into each contact loop: called out of line it cost a call and a round trip of its arguments
-// through memory per contact.
-[[gnu::always_inline]] inline DemSystem::ContactForces DemSystem::contact(ContactList& list, int p, const ContactKinematics& c) {
+// through memory per contact. Compiled for a loop's normal model M (void: each law's own) and
+// for lists that may carry history (History) or never do.
+template <bool History, class M>
+[[gnu::always_inline]] inline DemSystem::ContactForces DemSystem::contact(const ContactArrays& list, int p,
+                                                                          const ContactKinematics& c) const {
   ContactForces f;
   const double nx = c.frame.nx, ny = c.frame.ny;
   const double vn = c.rv.x * nx + c.rv.y * ny;      // approach speed
   const double drift = -c.rv.x * ny + c.rv.y * nx;  // the relative velocity along t
   const ContactCoefficients& lf = laws_[list.law[p]];
-  const contact::NormalLaw nl = lf.normal_law_of(list.k[p], list.c[p]);
+  const contact::NormalLaw nl = contact::with_model_of<M>(lf.normal_law_of(list.k[p], list.c[p]));
   const double fn = contact::normal_force(nl, c.overlap, vn);
   f.damping_power = contact::normal_dissipation(nl, c.overlap, vn, fn);
   f.dashpot = contact::dashpot_force(nl, c.overlap, fn);  // damping_power = dashpot vn
-  if (list.history && (lf.tangential || lf.rolling)) {
+  const bool history = History && list.history;
+  if (history && (lf.tangential || lf.rolling)) {
     const contact::ContactFrame& from = list.frame[p];
     const bool known = from.known();  // a contact that began in this step starts unstretched
     if (lf.tangential) {
@@ -82,7 +86,7 @@ inline contact::RollingLaw DemSystem::rolling_law(const ContactCoefficients& lf,
     to.ny = c.frame.ny;
     to.rho_t = c.frame.rho_t;
     to.rho_n = c.frame.rho_n;
-  } else if (list.history) {
+  } else if (history) {
     forget(list, p);
   }
   f.fx = -fn * nx - f.tangential * ny;

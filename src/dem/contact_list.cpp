@@ -13,7 +13,7 @@ void ContactList::replace(const std::vector<CandidatePair>& fresh, int particles
   std::vector<double>& kept_roll = trial_roll;
   std::vector<contact::ContactFrame>& kept_frame = trial_frame;
   kept_spring.assign(history ? n : 0, 0.0);
-  kept_roll.assign(history ? n : 0, 0.0);
+  kept_roll.assign(rolling ? n : 0, 0.0);
   kept_frame.assign(history ? n : 0, {});
   size_t old = 0;
   for (size_t p = 0; p < n; ++p) {
@@ -23,7 +23,7 @@ void ContactList::replace(const std::vector<CandidatePair>& fresh, int particles
       if (old < active.size()) kept_active[p] = active[old];
       if (history) {
         kept_spring[p] = spring[old];
-        kept_roll[p] = roll[old];
+        if (rolling) kept_roll[p] = roll[old];
         kept_frame[p] = frame[old];
       }
     }
@@ -49,7 +49,7 @@ void ContactList::replace(const std::vector<CandidatePair>& fresh, int particles
 
 void ContactList::index(int particles, bool pairs) {
   const size_t n = i.size();
-  rows.resize(n);
+  if (!rows.empty()) rows.resize(n);
   // Where each particle's rows are: counting sorts by i (already in order) and by j.
   by_i.assign(particles + 1, 0);
   for (size_t p = 0; p < n; ++p) ++by_i[i[p] + 1];

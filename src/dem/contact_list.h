@@ -29,6 +29,20 @@ struct HeatRow {
   double to_i = 0, to_j = 0, conductance = 0;
 };
 
+// A list's arrays as raw pointers, taken once per block of contacts by the contact loops: read
+// through the vectors, every pointer was loaded again for every contact (the loops' stores of
+// doubles might have changed them, for all the compiler knew), and spilled registers with it.
+struct ContactArrays {
+  const int *i, *j;
+  const double *k, *c;
+  const uint16_t* law;
+  bool history, rolling;
+  const double *spring, *roll;
+  const contact::ContactFrame* frame;
+  double *trial, *trial_roll;
+  contact::ContactFrame* trial_frame;
+};
+
 struct ContactList {
   std::vector<int> i, j;        // particle i; particle j (i < j) or segment j
   std::vector<double> k, c;     // normal law coefficients for this pair (k_t, c_t are fixed ratios)
@@ -38,11 +52,13 @@ struct ContactList {
   // committed springs and frame of the last accepted step, and the trial ones of the latest
   // evaluation, which become committed when its step is accepted.
   bool history = false;
+  bool rolling = false;                         // some law has rolling resistance: rolling springs
   std::vector<double> spring, trial;            // tangential elongation (m)
-  std::vector<double> roll, trial_roll;         // rolling spring angle (rad)
+  std::vector<double> roll, trial_roll;         // rolling spring angle (rad), only with `rolling`
   std::vector<contact::ContactFrame> frame, trial_frame;
 
-  // Rows of the latest evaluation (one per candidate), and where each particle finds its rows:
+  // Rows of the latest threaded evaluation (one per candidate; empty until one runs) and heat rows
+  // of the latest thermal one, and where each particle finds its rows:
   // those where it is i are the range [by_i[k], by_i[k + 1]) (the list is sorted by i); for a
   // particle list, those where it is j are by_j_rows[by_j[k] .. by_j[k + 1]), in ascending order.
   std::vector<ContactRow> rows;
@@ -50,6 +66,10 @@ struct ContactList {
   std::vector<int> by_i, by_j, by_j_rows;
 
   int size() const { return static_cast<int>(i.size()); }
+  ContactArrays arrays() {
+    return {i.data(),      j.data(),    k.data(),     c.data(),          law.data(),        history, rolling,
+            spring.data(), roll.data(), frame.data(), trial.data(), trial_roll.data(), trial_frame.data()};
+  }
   // Takes the sorted candidate pairs of `particles` particles; pairs present before keep their
   // committed history. `pairs`: j is a particle (indexed by_j too), not a wall segment.
   void replace(const std::vector<CandidatePair>& fresh, int particles, bool pairs);

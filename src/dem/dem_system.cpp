@@ -56,11 +56,19 @@ DemSystem::DemSystem(const Scene& scene)
     used[scene.material[i]] = true;
     rotates_ = rotates_ || scene.angular_velocity[i] != 0;
   }
-  bool history = false;
+  bool history = false, rolling = false, first = true;
   for (int a = 0; a < nm; ++a)
-    for (int b = 0; b < nm && used[a]; ++b) history = history || laws_[a * nm + b].tangential || laws_[a * nm + b].rolling;
+    for (int b = 0; b < nm && used[a]; ++b) {
+      const ContactCoefficients& law = laws_[a * nm + b];
+      history = history || law.tangential || law.rolling;
+      rolling = rolling || law.rolling;
+      mixed_models_ = mixed_models_ || (!first && law.law.model != pair_model_);
+      pair_model_ = law.law.model;
+      first = false;
+    }
   rotates_ = rotates_ || history;
   pp_.history = pw_.history = history;
+  pp_.rolling = pw_.rolling = rolling;
   thermal_ = scene.thermal;
   events_ = scene.control.contact_events;
   layout_.nq = (rotates_ ? 3 : 2) * n_;
@@ -207,8 +215,8 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
   Evaluation e = begin_evaluation(t, y, ydot);
   e.conduct = thermal_ && part == Part::all;
   particle_contact_forces(e);
+  if (e.threaded) rows_to_particles(e);
   wall_contact_forces(e);
-  rows_to_particles(e);
   if (e.conduct) e.heat_walls = conduct_walls(t, y, y + temperature_at(), e.heat, true, pw_.heat_rows.data());
   latest_conducted_ = e.conduct;
   if (has_attached_ || bodies()) {
@@ -220,8 +228,8 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
   close_ledger(e, ydot);
 }
 
-// dq/dt = v; the work forces of the walls' ledger zeroed (the contact stages and
-// rows_to_particles() write every force, torque, heat and other work force).
+// dq/dt = v; the work forces of the walls' ledger zeroed (the particle contacts stage zeroes the
+// sums the contact stages add to: prepare_particles()).
 DemSystem::Evaluation DemSystem::begin_evaluation(double t, const double* y, double* ydot) {
   const int nq = layout_.nq;
   std::copy_n(y + nq, nq, ydot);
@@ -246,6 +254,7 @@ DemSystem::Evaluation DemSystem::begin_evaluation(double t, const double* y, dou
     e.gw = e.gd + 2 * nq;
     std::fill_n(e.gw, nq, 0.0);
   }
+  e.threaded = runs_threaded(pp_.size());
   if (pp_.history) {
     std::copy_n(e.angle, n_, trial_angle_.data());
     trial_time_ = t;
@@ -259,7 +268,10 @@ void DemSystem::accelerations(Evaluation& e) {
   for (int i = 0; i < n_; ++i) {
     e.fx[i] = e.fx[i] * inv_mass_[i] + gx;
     e.fy[i] = e.fy[i] * inv_mass_[i] + gy;
-    if (e.torque) e.torque[i] *= inv_inertia_[i];
+    if (e.torque) {
+      e.g[2 * n_ + i] = -e.torque[i];  // friction's work torque: every contact torque is friction's
+      e.torque[i] *= inv_inertia_[i];
+    }
     if (e.heat) e.heat[i] *= inv_capacity_[i];
   }
   // An attached particle follows its wall: no spin change, the wall's acceleration at its place

@@ -185,6 +185,9 @@ class DemSystem final : public OdeSystem {
     double damping = 0, friction_work = 0, walls_work = 0, heat_generated = 0, heat_walls = 0;
     double worst = 0;     // largest overlap / radius
     bool conduct = false;  // a thermal scene's full evaluation: conduction goes with the contacts
+    // The particle contacts run on several threads: each contact writes its row and
+    // rows_to_particles() sums them. Otherwise each row is added to its particles as it is made.
+    bool threaded = false;
   };
   // What a block of particle contacts adds to the evaluation's sums (parallel.h).
   struct BlockSums {
@@ -202,8 +205,52 @@ class DemSystem final : public OdeSystem {
   // The stages of an evaluation (each in a file of its own).
   Evaluation begin_evaluation(double t, const double* y, double* ydot);
   void particle_contact_forces(Evaluation& e);  // stage_particle_contacts.cpp
-  void wall_contact_forces(Evaluation& e);      // stage_wall_contacts.cpp
-  void rows_to_particles(Evaluation& e);        // stage_contact_sums.cpp
+  template <bool Threaded, bool History, bool Plain, class M>
+  void pair_contact_loop(Evaluation& e);
+  // What a particle contact reads of its two particles, packed per particle (one cache line) at
+  // the start of the stage: the contact loop then holds one pointer for them instead of eight,
+  // and its working values stay in registers instead of going through the stack. Without
+  // rotation w and spun are 0. prepare_particles() packs them and, on one thread, zeroes the sums
+  // the contact stages add to (threaded, rows_to_particles() sets them), in one pass.
+  struct ParticleKinematics {
+    double x, y, vx, vy;
+    double w, spun;  // spin (rad/s), angle turned since the committed state (rad)
+    double r, inv_r;
+  };
+  void prepare_particles(const Evaluation& e);
+  // The particles' sums the contacts add to, as raw pointers (see ContactArrays): forces, torques
+  // (null without rotation), the dashpots' and friction's work forces, heat (null without heat).
+  struct ParticleSums {
+    double *fx, *fy, *torque, *dx, *dy, *gx, *gy, *heat;
+  };
+  ParticleSums particle_sums(const Evaluation& e) const {
+    return {e.fx, e.fy, e.torque, e.gd, e.gd + n_, e.g, e.g + n_, e.heat};
+  }
+  // A contact's row added to its particles' sums (j < 0: a wall), heat rows likewise: on one
+  // thread, in the order of the lists, the additions rows_to_particles() makes.
+  static void add_row(const ParticleSums& s, int i, int j, const ContactRow& r) {
+    s.fx[i] += r.fx;
+    s.fy[i] += r.fy;
+    s.dx[i] += r.dx;
+    s.dy[i] += r.dy;
+    s.gx[i] += r.gx;
+    s.gy[i] += r.gy;
+    if (s.torque) s.torque[i] += r.torque_i;
+    if (j < 0) return;
+    s.fx[j] -= r.fx;
+    s.fy[j] -= r.fy;
+    s.dx[j] -= r.dx;
+    s.dy[j] -= r.dy;
+    s.gx[j] -= r.gx;
+    s.gy[j] -= r.gy;
+    if (s.torque) s.torque[j] += r.torque_j;
+  }
+  static void add_heat_row(const ParticleSums& s, int i, int j, const HeatRow& h) {
+    s.heat[i] += h.to_i;
+    if (j >= 0) s.heat[j] += h.to_j;
+  }
+  void wall_contact_forces(Evaluation& e);  // stage_wall_contacts.cpp
+  void rows_to_particles(Evaluation& e);    // stage_contact_sums.cpp (threaded evaluations)
   void attached_particles(Evaluation& e);       // what pushes them pushes their walls
   void wall_bodies(Evaluation& e, double* ydot);  // load-controlled walls under their loads
   void accelerations(Evaluation& e);            // forces to accelerations, gravity
@@ -264,12 +311,13 @@ class DemSystem final : public OdeSystem {
     double damping_power = 0;  // W
     double work_rate = 0;      // power of friction and rolling resistance on the relative motion (W)
   };
-  ContactForces contact(ContactList& list, int p, const ContactKinematics& c);
+  template <bool History, class M>
+  ContactForces contact(const ContactArrays& list, int p, const ContactKinematics& c) const;
   contact::TangentialLaw tangential_law(const ContactCoefficients& lf, const contact::NormalLaw& nl,
                                         double overlap) const;
   contact::RollingLaw rolling_law(const ContactCoefficients& lf, const contact::NormalLaw& nl, double overlap,
                                   const PairMasses& pm, double normal) const;
-  static void forget(ContactList& list, int p);  // not touching: no history
+  static void forget(const ContactArrays& list, int p);  // not touching: no history
   // The heat a contact's dissipation makes (W): its friction work, and its damping where the
   // scene says so (Nguyen et al. 2009, eq. 1: m c_p dT/dt = sum_j (H (T_j - T_i) + E_f / (2 dt))).
   // Friction heat is booked as the work of friction on the relative motion: what a spring holds
@@ -307,6 +355,8 @@ class DemSystem final : public OdeSystem {
   std::vector<double> radius_, inv_radius_, mass_, inv_mass_, inertia_, inv_inertia_;
   std::vector<int> material_;
   std::vector<ContactCoefficients> laws_;  // per material pair
+  bool mixed_models_ = false;              // the laws of used material pairs differ in normal model
+  contact::NormalModel pair_model_ = contact::NormalModel::linear;  // otherwise, theirs
 
   double base_skin_ = 0;  // the scene's skin (or the automatic one); a rebuild may widen it for a step
   Broadphase broadphase_;
@@ -323,6 +373,7 @@ class DemSystem final : public OdeSystem {
   double committed_time_ = 0, trial_time_ = 0;
   std::vector<double> work_force_;  // see work_components(), from the latest evaluation
   std::vector<BlockSums> block_sums_;  // the particle contacts stage's, per block
+  std::vector<ParticleKinematics> kinematics_;  // the particle contacts stage's, per particle
   bool latest_conducted_ = false;      // the latest evaluation was full: its heat rows hold conductances
   int works_ = 2;
   double max_overlap_fraction_ = 0;

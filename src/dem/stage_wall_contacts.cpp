@@ -4,8 +4,8 @@
 // there enters the relative velocity, and the work the wall does on the particle is F . u_wall
 // plus the rolling couple times the wall's spin. What the particles do to each wall (force,
 // torque about its centre, power delivered) is summed into its load. Wall contacts are few
-// (a surface's worth): the stage runs on one thread and writes rows (ContactRow) as the particle
-// stage does, for rows_to_particles() to sum.
+// (a surface's worth): the stage runs on one thread and adds each contact's row to its particle,
+// in the order of the list, after the particle contacts' sums.
 #include "src/dem/contact_kernel.h"
 
 namespace kiln {
@@ -17,14 +17,15 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
   for (WallLoad& load : wall_loads_) load = {};
   const bool thermal = e.heat != nullptr;
   if (thermal) pw_.heat_rows.resize(pw_.size());
+  const ContactArrays list = pw_.arrays();
+  const ParticleSums sums = particle_sums(e);
   for (int p = 0, np = pw_.size(); p < np; ++p) {
     const int i = pw_.i[p], sgi = pw_.j[p];
     const double r = radius_[i];
     WallHit hit;
     // An attached particle is part of a wall: walls do not touch walls.
     if ((events_ && !pw_.active[p]) || attached(i) || !wall_hit(e.x, e.y, seg_a_, seg_b_, i, sgi, hit, events_)) {
-      if (history) forget(pw_, p);
-      pw_.rows[p] = {};
+      if (history) forget(list, p);
       if (thermal) pw_.heat_rows[p] = {};
       continue;
     }
@@ -49,9 +50,9 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
       c.spun_i = e.angle[i] - committed_angle_[i];
       c.spun_other = wall_spin * (e.t - committed_time_);
     }
-    const ContactForces f = contact(pw_, p, c);
+    const ContactForces f = contact<true, void>(list, p, c);
     const double power = f.fx * u.x + f.fy * u.y + f.couple * wall_spin;
-    ContactRow& row = pw_.rows[p];
+    ContactRow row;
     row.fx = f.fx;
     row.fy = f.fy;
     // work_rate = -F_t ((v_i - u) . t + r w_i) - M (w_i - wall spin): the u and spin parts are no g
@@ -61,6 +62,7 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     row.gy = -f.tangential * n.x;
     row.dx = f.dashpot * n.x;
     row.dy = f.dashpot * n.y;
+    add_row(sums, i, -1, row);
     e.damping += f.damping_power;
     e.friction_work += f.work_rate;
     e.walls_work += power;
@@ -73,6 +75,7 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     if (thermal) {  // the wall keeps its share
       const double made = laws_[pw_.law[p]].heat_share * heat_made(f.work_rate, f.damping_power);
       pw_.heat_rows[p] = {made, 0.0, 0.0};
+      add_heat_row(sums, i, -1, pw_.heat_rows[p]);
       e.heat_generated += made;
     }
     e.worst = std::max(e.worst, hit.overlap * inv_radius_[i]);

@@ -193,6 +193,11 @@ class SceneRun {
   nlohmann::json stage_stats_before_ = nlohmann::json::object();
   double heat_wall_before_ = 0;
   std::chrono::steady_clock::time_point heat_start_;
+  // RunOptions::time_from_step: when the timed steps began, and the counts then.
+  std::chrono::steady_clock::time_point timed_start_;
+  long timed_steps_before_ = -1, timed_rhs_before_ = 0, timed_rebuilds_before_ = 0;
+  double timed_seconds_ = 0;
+  long timed_steps_ = 0, timed_rhs_ = 0, timed_rebuilds_ = 0;
   double next_checkpoint_ = INFINITY;
   long last_checkpoint_step_ = -1;
 
@@ -376,7 +381,14 @@ SceneRun::Ended SceneRun::at_frame(bool moving, bool at_end) {
 SceneRun::Ended SceneRun::run_stage(Integrator& stepper, bool moving) {
   const double tol = 1e-9 * stage_dt_;
   stepper.set_stop_time(scene_.t_end);
+  const bool timed = moving && options_.time_from_step >= 0;
   while (t_ < scene_.t_end - tol) {
+    if (timed && stage_steps_ == options_.time_from_step) {
+      timed_start_ = std::chrono::steady_clock::now();
+      timed_steps_before_ = stage_steps_;
+      timed_rhs_before_ = stepper.stats().rhs_evals;
+      timed_rebuilds_before_ = system_.rebuilds();
+    }
     {
       const StageTimer timer(profile_, Stage::integration);  // less the system's stages, in summary()
       stepper.step();
@@ -424,6 +436,12 @@ SceneRun::Ended SceneRun::run_stage(Integrator& stepper, bool moving) {
 }
 
 void SceneRun::close_stage(Integrator& stepper, nlohmann::json& stats) {
+  if (timed_steps_before_ >= 0 && stage_ == mechanics_stage) {
+    timed_seconds_ = seconds_since(timed_start_);
+    timed_steps_ = stage_steps_ - timed_steps_before_;
+    timed_rhs_ = stepper.stats().rhs_evals - timed_rhs_before_;
+    timed_rebuilds_ = system_.rebuilds() - timed_rebuilds_before_;
+  }
   total_steps_ += stage_sizes_.count;  // the steps the run kept (ARKODE's count adds redone ones)
   total_rhs_ += stage_rhs_before_ + stepper.stats().rhs_evals;
   stats = merged_statistics(stage_stats_before_, stepper.statistics());
@@ -584,6 +602,9 @@ nlohmann::json SceneRun::summary(Ended ended) {
                                 {"mean_power", sum[3] / n}});
   }
   summary["neighbour_rebuilds"] = system_.rebuilds();
+  if (timed_steps_before_ >= 0)
+    summary["timed"] = {{"from_step", timed_steps_before_}, {"steps", timed_steps_}, {"rhs_evals", timed_rhs_},
+                        {"neighbour_rebuilds", timed_rebuilds_}, {"seconds", timed_seconds_}};
   summary["skin"] = system_.skin();
   summary["energy"] = ledger_json(final_energy, initial_, system_.thermal());
   summary["energy"]["history"] = {{"time", history_time_}, {"balance_error", history_error_}};

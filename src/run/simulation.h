@@ -35,6 +35,9 @@ struct RunOptions {
   // SIGINT and SIGTERM (caught by the caller, src/base/stop_signal.h) stop the run between two steps.
   bool stop_on_signal = false;
   const Snapshot* resume = nullptr;  // go on from this checkpoint, of this scene
+  // Benchmarks: from this step of the mechanical stage on (>= 0), its steps, right-hand sides and
+  // wall seconds are summary.json's "timed" (checks, frames and ledger included, as in any run).
+  long time_from_step = -1;
 };
 
 // Runs the scene to its end (or its stop condition) and returns the summary (also written to
