@@ -7,7 +7,7 @@
 #                          ARKODE, 2 threads on 100,000; 5 alternating pairs (3 at 100,000)
 #   bench/run.sh --quick   the same figures from fewer steps and repeats, in under 10 minutes
 #   bench/run.sh --smoke   the guard against a regression, under a minute after the build: the
-#                          1,000-disc pile, kiln and LAMMPS alternately (7 pairs), and the ratio
+#                          1,000-disc pile, kiln and LAMMPS alternately (9 pairs of 10,000 steps), and the ratio
 #                          kiln/LAMMPS against the one recorded in bench/baseline.json at the last
 #                          release. One line; exit 1 when it is below 0.9 of the baseline's.
 #   --record               with --smoke: write the measured ratio to bench/baseline.json (a release)
@@ -108,13 +108,13 @@ if [ $smoke = 1 ]; then
   commit=$(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo unknown)
   [ -z "$kiln_given" ] || commit=${BENCH_COMMIT:-"binary $(basename "$kiln_given")"}
   echo "repeat,kiln_rate,lammps_rate" >"$csv"
-  for repeat in $(seq 7); do
-    OMP_NUM_THREADS=1 "$kiln" bench --pile "$piles/pile_1k.data" --steps 6000 --warmup 500 >"$logs/kiln-$repeat.log" 2>&1 ||
+  for repeat in $(seq 9); do
+    OMP_NUM_THREADS=1 "$kiln" bench --pile "$piles/pile_1k.data" --steps 10000 --warmup 500 >"$logs/kiln-$repeat.log" 2>&1 ||
       { tail -n 15 "$logs/kiln-$repeat.log"; exit 1; }
-    OMP_NUM_THREADS=1 lmp -in "$here/in.lammps" -var pile "$piles/pile_1k.data" -var warmup 500 -var steps 6000 \
+    OMP_NUM_THREADS=1 lmp -in "$here/in.lammps" -var pile "$piles/pile_1k.data" -var warmup 500 -var steps 10000 \
       -var gx 0 -var gy -1 -log none >"$logs/lammps-$repeat.log" 2>&1 || { tail -n 15 "$logs/lammps-$repeat.log"; exit 1; }
     k=$(sed -n 's/^kiln-bench: .* particle_steps_per_s=\([^ ]*\).*/\1/p' "$logs/kiln-$repeat.log")
-    l=$(awk '/^Loop time of/ && $9 == 6000 { printf "%.6g\n", $12 * 6000 / $4 }' "$logs/lammps-$repeat.log")
+    l=$(awk '/^Loop time of/ && $9 == 10000 { printf "%.6g\n", $12 * 10000 / $4 }' "$logs/lammps-$repeat.log")
     echo "$repeat,$k,$l" >>"$csv"
   done
   python3 - "$csv" "$here/baseline.json" "$record" "$commit" \
