@@ -48,6 +48,14 @@ while [ $# -gt 0 ]; do
 done
 case $build in /*) ;; *) build=$root/$build ;; esac
 [ $record = 0 ] || [ $smoke = 1 ] || { echo "--record goes with --smoke" >&2; exit 2; }
+if [ -n "$kiln_given" ]; then
+  [ -x "$kiln_given" ] && [ -f "$kiln_given" ] || { echo "error: --kiln $kiln_given is not an executable file" >&2; exit 2; }
+  [ "$build" = "${KILN_BUILD_DIR:-$root/build}" ] || { echo "--kiln and --build-dir are two ways to name kiln: choose one" >&2; exit 2; }
+fi
+if [ $smoke = 1 ] && [ $record = 0 ] && [ ! -s "$here/baseline.json" ]; then
+  echo "error: no $here/baseline.json to compare with: record one with --smoke --record (a release's figure)" >&2
+  exit 2
+fi
 [ $quick = 0 ] || [ $smoke = 0 ] || { echo "--quick and --smoke are different runs: choose one" >&2; exit 2; }
 
 started=$(date +%s)
@@ -77,7 +85,6 @@ command -v liggghts >/dev/null && have_liggghts=1
 
 # ---- kiln, a Release build (or the binary given) ----
 if [ -n "$kiln_given" ]; then
-  [ -x "$kiln_given" ] || { echo "error: --kiln $kiln_given is not an executable" >&2; exit 2; }
   kiln=$(cd "$(dirname "$kiln_given")" && pwd)/$(basename "$kiln_given")
 else
   if [ ! -f "$build/CMakeCache.txt" ]; then
@@ -115,6 +122,7 @@ if [ $smoke = 1 ]; then
       -var gx 0 -var gy -1 -log none >"$logs/lammps-$repeat.log" 2>&1 || { tail -n 15 "$logs/lammps-$repeat.log"; exit 1; }
     k=$(sed -n 's/^kiln-bench: .* particle_steps_per_s=\([^ ]*\).*/\1/p' "$logs/kiln-$repeat.log")
     l=$(awk '/^Loop time of/ && $9 == 10000 { printf "%.6g\n", $12 * 10000 / $4 }' "$logs/lammps-$repeat.log")
+    [ -n "$k" ] && [ -n "$l" ] || { echo "error: no particle-steps/s in $logs/kiln-$repeat.log or $logs/lammps-$repeat.log" >&2; exit 1; }
     echo "$repeat,$k,$l" >>"$csv"
   done
   python3 - "$csv" "$here/baseline.json" "$record" "$commit" \

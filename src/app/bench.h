@@ -25,10 +25,11 @@ struct BenchOptions {
 
 // Prints what it measured, ending with one line "kiln-bench: key=value ..." for scripts: n, steps,
 // warmup, integrator, model, loop_s, particle_steps_per_s, ns_per_particle_step, rhs_evals,
-// s_per_rhs, s_per_step, peak_rss_mb, contacts_per_disc (mean over the frames: disc-disc contacts
-// at both ends, the floor's once), rebuilds (while timed) and rebuild_ns_per_disc (a rebuild's
-// wall time per disc, over the whole run). The timed steps are those of a run of the scene with
-// its checks, ledger and frames, as `kiln run` makes it without files (src/run/simulation.h).
+// s_per_rhs, s_per_step, peak_rss_mb, contacts_per_disc (particle-particle, at both ends, at the
+// end of the timed steps, as LAMMPS' contact/atom), wall_contacts_per_disc, rebuilds (while
+// timed) and rebuild_ns_per_disc (a rebuild's wall time per disc: of those while timed, else of
+// the run's, the first build included). The timed steps are those of a run of the scene with its
+// checks, ledger and frames, as `kiln run` makes it without files (src/run/simulation.h).
 // Returns the exit code; bad options and files throw InputError.
 int run_bench(const BenchOptions& options);
 

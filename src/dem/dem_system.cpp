@@ -269,7 +269,7 @@ void DemSystem::accelerations(Evaluation& e) {
     e.fx[i] = e.fx[i] * inv_mass_[i] + gx;
     e.fy[i] = e.fy[i] * inv_mass_[i] + gy;
     if (e.torque) {
-      e.g[2 * n_ + i] = -e.torque[i];  // friction's work torque: every contact torque is friction's
+      e.g[2 * n_ + i] = -e.torque[i];  // every contact torque is friction's or rolling resistance's: that ledger's
       e.torque[i] *= inv_inertia_[i];
     }
     if (e.heat) e.heat[i] *= inv_capacity_[i];

@@ -196,8 +196,9 @@ class SceneRun {
   // RunOptions::time_from_step: when the timed steps began, and the counts then.
   std::chrono::steady_clock::time_point timed_start_;
   long timed_steps_before_ = -1, timed_rhs_before_ = 0, timed_rebuilds_before_ = 0;
-  double timed_seconds_ = 0;
+  double timed_seconds_ = 0, timed_neighbour_before_ = 0, timed_neighbour_seconds_ = 0;
   long timed_steps_ = 0, timed_rhs_ = 0, timed_rebuilds_ = 0;
+  DemSystem::ContactCount timed_contacts_;  // at the end of the timed steps
   double next_checkpoint_ = INFINITY;
   long last_checkpoint_step_ = -1;
 
@@ -388,6 +389,7 @@ SceneRun::Ended SceneRun::run_stage(Integrator& stepper, bool moving) {
       timed_steps_before_ = stage_steps_;
       timed_rhs_before_ = stepper.stats().rhs_evals;
       timed_rebuilds_before_ = system_.rebuilds();
+      timed_neighbour_before_ = system_.profile().seconds(Stage::neighbour_update);
     }
     {
       const StageTimer timer(profile_, Stage::integration);  // less the system's stages, in summary()
@@ -441,6 +443,8 @@ void SceneRun::close_stage(Integrator& stepper, nlohmann::json& stats) {
     timed_steps_ = stage_steps_ - timed_steps_before_;
     timed_rhs_ = stepper.stats().rhs_evals - timed_rhs_before_;
     timed_rebuilds_ = system_.rebuilds() - timed_rebuilds_before_;
+    timed_neighbour_seconds_ = system_.profile().seconds(Stage::neighbour_update) - timed_neighbour_before_;
+    timed_contacts_ = system_.count_contacts(t_, y_.data());
   }
   total_steps_ += stage_sizes_.count;  // the steps the run kept (ARKODE's count adds redone ones)
   total_rhs_ += stage_rhs_before_ + stepper.stats().rhs_evals;
@@ -604,7 +608,9 @@ nlohmann::json SceneRun::summary(Ended ended) {
   summary["neighbour_rebuilds"] = system_.rebuilds();
   if (timed_steps_before_ >= 0)
     summary["timed"] = {{"from_step", timed_steps_before_}, {"steps", timed_steps_}, {"rhs_evals", timed_rhs_},
-                        {"neighbour_rebuilds", timed_rebuilds_}, {"seconds", timed_seconds_}};
+                        {"neighbour_rebuilds", timed_rebuilds_}, {"neighbour_update_seconds", timed_neighbour_seconds_},
+                        {"seconds", timed_seconds_}, {"particle_contacts", timed_contacts_.particle_particle},
+                        {"wall_contacts", timed_contacts_.particle_wall}};
   summary["skin"] = system_.skin();
   summary["energy"] = ledger_json(final_energy, initial_, system_.thermal());
   summary["energy"]["history"] = {{"time", history_time_}, {"balance_error", history_error_}};
