@@ -14,7 +14,8 @@ ContactCoefficients contact_coefficients(const Scene& scene, int a, int b) {
                                 ? thermal::heat_partition(ma.electrical_resistivity, mb.electrical_resistivity,
                                                           ma.conductivity, mb.conductivity)
                                 : 0.5;
-  return {contact::law_coefficients(law.contact), conduction, heat_share};
+  return {contact::law_coefficients(law.contact), conduction, heat_share,
+          ma.conductivity + mb.conductivity > 0 ? thermal::harmonic_mean(ma.conductivity, mb.conductivity) : 0.0};
 }
 
 }  // namespace kiln

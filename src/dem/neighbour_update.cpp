@@ -144,8 +144,12 @@ void DemSystem::frame_new_contacts(double t, const double* y) {
     if (pp_.frame[p].known()) continue;
     const int i = pp_.i[p], j = pp_.j[p];
     const Vec2 dv = separation(px, py, i, j);
+    const double rsum = radius_[i] + radius_[j];
+    // Most candidates without a frame are apart: no hypot for them (the margin keeps every pair
+    // hypot could find touching).
+    if (dv.x * dv.x + dv.y * dv.y > rsum * rsum * (1 + 1e-12)) continue;
     const double d = std::hypot(dv.x, dv.y);
-    const double overlap = radius_[i] + radius_[j] - d;
+    const double overlap = rsum - d;
     if (overlap <= 0) continue;
     pp_.frame[p] = pp_.trial_frame[p] = {dv.x / d, dv.y / d, 0.0, -d};
   }

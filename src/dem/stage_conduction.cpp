@@ -28,7 +28,7 @@ double DemSystem::wall_conductance(const double* px, const double* py, const std
     return 0;
   const ContactCoefficients& lf = laws_[pw_.law[p]];
   const double fn = contact::normal_force(lf.normal_law_of(pw_.k[p], pw_.c[p]), hit.overlap, 0.0);
-  return thermal::conductance(lf.conduction, radius_[i], INFINITY, radius_[i] - hit.overlap, fn);
+  return thermal::conductance(lf.conduction, lf.mean_conductivity, radius_[i], INFINITY, radius_[i] - hit.overlap, fn);
 }
 
 // Conduction ([thesis] eq. II.6-II.8): heat[i] += sum_j H_ij (T_j - T_i) + sum_w H_iw (T_w - T_i)

@@ -9,8 +9,8 @@
 // through the contact: the geometry is computed once for both.
 //
 // The loop is compiled for each normal model, for lists with and without history, for one thread
-// or several, and for plain scenes (no heat, contact events or particles of walls) or any: what a
-// scene uses is chosen once per evaluation, not tested per contact.
+// or several, and for what the scene adds (PairExtras: nothing, heat, or heat, contact events and
+// particles of walls): what a scene uses is chosen once per evaluation, not tested per contact.
 #include <type_traits>
 
 #include "src/dem/contact_kernel.h"
@@ -18,8 +18,9 @@
 
 namespace kiln {
 
-template <bool Threaded, bool History, bool Plain, class M>
+template <bool Threaded, bool History, DemSystem::PairExtras X, class M>
 void DemSystem::pair_contact_loop(Evaluation& e) {
+  constexpr bool Plain = X == PairExtras::none, Any = X == PairExtras::any;
   const int np = pp_.size();
   const int blocks = block_count(np);
   block_sums_.resize(blocks);
@@ -31,7 +32,7 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
   // doubles could have changed its members, for all the compiler knew).
   auto block = [&](int b) {
     const bool thermal = !Plain && e.heat != nullptr;
-    const bool events = !Plain && events_, has_attached = !Plain && has_attached_;
+    const bool events = Any && events_, has_attached = Any && has_attached_;
     const double* temp = !Plain && e.conduct ? e.state + temperature_at() : nullptr;
     const PeriodicCell cell = cell_;
     const ParticleKinematics* kin = kinematics_.data();
@@ -89,12 +90,15 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
       }
       const double dist = dist_of[k];
       const double overlap = rsum - dist;
+      // Conducted heat: the row is written once, with the friction heat below.
+      HeatRow heat;
       if (temp) {
-        const double h = touching_pair_conductance(p, dist, overlap);
+        const double h = touching_conductance(list.law[p], list.k[p], list.c[p], pi.r, pj.r, dist, overlap);
         const double q = h * (temp[j] - temp[i]);
-        pp_.heat_rows[p] = {q, -q, h};
+        heat = {q, -q, h};
         if (walls_both) {
-          if constexpr (!Threaded) add_heat_row(to, i, j, pp_.heat_rows[p]);
+          pp_.heat_rows[p] = heat;
+          if constexpr (!Threaded) add_heat_row(to, i, j, heat);
           continue;
         }
       }
@@ -134,11 +138,10 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
       sums.friction_work += f.work_rate;
       if (thermal) {
         const double made = heat_made(f.work_rate, f.damping_power);
-        const double share = laws_[pp_.law[p]].heat_share;
-        HeatRow& heat = pp_.heat_rows[p];
-        if (!temp) heat = {};
+        const double share = laws_[list.law[p]].heat_share;
         heat.to_i += share * made;
         heat.to_j += (1 - share) * made;
+        pp_.heat_rows[p] = heat;
         sums.heat_generated += made;
         if constexpr (!Threaded) add_heat_row(to, i, j, heat);
       }
@@ -176,14 +179,21 @@ void DemSystem::particle_contact_forces(Evaluation& e) {
   prepare_particles(e);
   if (e.threaded) pp_.rows.resize(pp_.size());
   if (e.heat) pp_.heat_rows.resize(pp_.size());
-  const bool plain = !e.heat && !events_ && !has_attached_;
-  auto with_threads = [&](auto history, auto model) {
+  const PairExtras extras = events_ || has_attached_ ? PairExtras::any : e.heat ? PairExtras::heat : PairExtras::none;
+  auto with_extras = [&](auto threaded, auto history, auto model) {
     using M = typename decltype(model)::type;
-    constexpr bool H = decltype(history)::value;
+    constexpr bool T = decltype(threaded)::value, H = decltype(history)::value;
+    switch (extras) {
+      case PairExtras::none: return pair_contact_loop<T, H, PairExtras::none, M>(e);
+      case PairExtras::heat: return pair_contact_loop<T, H, PairExtras::heat, M>(e);
+      case PairExtras::any: return pair_contact_loop<T, H, PairExtras::any, M>(e);
+    }
+  };
+  auto with_threads = [&](auto history, auto model) {
     if (e.threaded)
-      plain ? pair_contact_loop<true, H, true, M>(e) : pair_contact_loop<true, H, false, M>(e);
+      with_extras(std::true_type{}, history, model);
     else
-      plain ? pair_contact_loop<false, H, true, M>(e) : pair_contact_loop<false, H, false, M>(e);
+      with_extras(std::false_type{}, history, model);
   };
   auto with_history = [&](auto model) {
     if (pp_.history)

@@ -8,15 +8,6 @@ namespace kiln {
 
 namespace {
 
-float down(double v) {
-  const float f = static_cast<float>(v);
-  return static_cast<double>(f) > v ? std::nextafter(f, -INFINITY) : f;
-}
-float up(double v) {
-  const float f = static_cast<float>(v);
-  return static_cast<double>(f) < v ? std::nextafter(f, INFINITY) : f;
-}
-
 double segment_distance(Vec2 p, Vec2 a, Vec2 b) {
   const Vec2 ab = b - a;
   const double len2 = dot(ab, ab);
@@ -45,24 +36,34 @@ void query(const b2DynamicTree& tree, const b2AABB& box, F& fn) {
 
 b2AABB Broadphase::box(double x0, double y0, double x1, double y1) const {
   b2AABB bb;
-  bb.lowerBound.Set(down(x0 * scale_), down(y0 * scale_));
-  bb.upperBound.Set(up(x1 * scale_), up(y1 * scale_));
+  bb.lowerBound.Set(static_cast<float>(x0 * scale_), static_cast<float>(y0 * scale_));
+  bb.upperBound.Set(static_cast<float>(x1 * scale_), static_cast<float>(y1 * scale_));
   return bb;
 }
 
 void Broadphase::particle_pairs(const double* x, const double* y, const double* r, int n, const PeriodicCell& cell,
                                 std::vector<CandidatePair>& out) {
-  // Keep the tree across rebuilds: MoveProxy re-inserts only particles that left their fat box.
+  // Keep the tree across rebuilds: a particle is re-inserted only when it has left its fat box,
+  // its disc's box around its anchor widened by fat_margin per side (Box2D's own padding, a tenth
+  // of a skin, would have re-inserted nearly every particle of a flowing pile at every rebuild).
+  const double margin = fat_margin / scale_;
+  auto fat_box = [&](int i) {
+    const double reach = r[i] + margin;
+    return box(anchor_x_[i] - reach, anchor_y_[i] - reach, anchor_x_[i] + reach, anchor_y_[i] + reach);
+  };
   if (static_cast<int>(particle_proxy_.size()) != n) {
     for (int32 id : particle_proxy_) particles_.DestroyProxy(id);
     particle_proxy_.clear();
-    for (int i = 0; i < n; ++i)
-      particle_proxy_.push_back(particles_.CreateProxy(box(x[i] - r[i], y[i] - r[i], x[i] + r[i], y[i] + r[i]),
-                                                       as_user_data(i)));
+    anchor_x_.assign(x, x + n);
+    anchor_y_.assign(y, y + n);
+    for (int i = 0; i < n; ++i) particle_proxy_.push_back(particles_.CreateProxy(fat_box(i), as_user_data(i)));
   } else {
-    for (int i = 0; i < n; ++i)
-      particles_.MoveProxy(particle_proxy_[i], box(x[i] - r[i], y[i] - r[i], x[i] + r[i], y[i] + r[i]),
-                           b2Vec2(0, 0));
+    for (int i = 0; i < n; ++i) {
+      if (std::abs(x[i] - anchor_x_[i]) <= margin && std::abs(y[i] - anchor_y_[i]) <= margin) continue;
+      anchor_x_[i] = x[i];
+      anchor_y_[i] = y[i];
+      particles_.MoveProxy(particle_proxy_[i], fat_box(i), b2Vec2(0, 0));
+    }
   }
   out.clear();
   // In a periodic cell a particle near an edge also looks for neighbours around its images
