@@ -103,6 +103,7 @@ struct ConductionLaw {
   }
   return 0;
 }
+// The same, the mean conductivity taken here (for callers outside a contact loop).
 inline double conductance(const ConductionLaw& law, double ri, double rj, double d, double normal_force) {
   return conductance(law, harmonic_mean(law.k_i, law.k_j), ri, rj, d, normal_force);
 }

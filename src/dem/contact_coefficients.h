@@ -13,7 +13,9 @@ namespace kiln {
 struct ContactCoefficients : contact::LawCoefficients {
   thermal::ConductionLaw conduction;  // from the first material to the second
   double heat_share = 0.5;            // share of frictional heat for the first material's body
-  double mean_conductivity = 0;       // harmonic_mean(conduction.k_i, conduction.k_j) (W/(m K))
+  // harmonic_mean(conduction.k_i, conduction.k_j) (W/(m K)); 0, not 0/0, between two materials that
+  // do not conduct (the scene reader allows no conduction law between them).
+  double mean_conductivity = 0;
 };
 
 // The coefficients of the law between materials a and b of the scene.

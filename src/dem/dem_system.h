@@ -337,8 +337,9 @@ class DemSystem final : public OdeSystem {
   double touching_pair_conductance(int p, double dist, double overlap) const {
     return touching_conductance(pp_.law[p], pp_.k[p], pp_.c[p], radius_[pp_.i[p]], radius_[pp_.j[p]], dist, overlap);
   }
-  // ... of a pair of law `law` with normal coefficients k, c and radii r_i, r_j (the pair loop has
-  // them in registers or cache: loaded again through the lists, they cost a tenth of its time).
+  // ... of a contact of law `law` with normal coefficients k, c and radii r_i, r_j (r_j infinite:
+  // a wall; the pair loop has them in registers or cache: loaded again through the lists, they
+  // cost a tenth of its time).
   [[gnu::always_inline]] double touching_conductance(int law, double k, double c, double ri, double rj, double dist,
                                                      double overlap) const {
     const ContactCoefficients& lf = laws_[law];

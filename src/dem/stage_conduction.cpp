@@ -26,9 +26,8 @@ double DemSystem::wall_conductance(const double* px, const double* py, const std
   if ((events_ && !pw_.active[p]) || !scene_.walls[wall].temperature.isothermal() ||
       !wall_hit(px, py, a, b, i, pw_.j[p], hit, events_))
     return 0;
-  const ContactCoefficients& lf = laws_[pw_.law[p]];
-  const double fn = contact::normal_force(lf.normal_law_of(pw_.k[p], pw_.c[p]), hit.overlap, 0.0);
-  return thermal::conductance(lf.conduction, lf.mean_conductivity, radius_[i], INFINITY, radius_[i] - hit.overlap, fn);
+  return touching_conductance(pw_.law[p], pw_.k[p], pw_.c[p], radius_[i], INFINITY, radius_[i] - hit.overlap,
+                              hit.overlap);
 }
 
 // Conduction ([thesis] eq. II.6-II.8): heat[i] += sum_j H_ij (T_j - T_i) + sum_w H_iw (T_w - T_i)

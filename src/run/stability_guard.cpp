@@ -117,7 +117,10 @@ void StabilityGuard::temperatures(double t, const double* y) {
       const double b = beyond(i + k);
       most[k] = b > most[k] ? b : most[k];
     }
-  for (; i < n; ++i) most[0] = beyond(i) > most[0] ? beyond(i) : most[0];
+  for (; i < n; ++i) {
+    const double b = beyond(i);
+    most[0] = b > most[0] ? b : most[0];
+  }
   const double excursion = std::max(std::max(most[0], most[1]), std::max(most[2], most[3]));
   int worst = -1;
   if (excursion > 0)

@@ -70,7 +70,8 @@ void check_kept_tree(double origin, double stride, bool periodic) {
 
 }  // namespace
 
-TEST_CASE("broadphase kept across rebuilds finds exactly the pairs within the skin, box and periodic cell") {
+TEST_CASE("broadphase kept across rebuilds finds exactly the pairs within the skin, box and periodic cell",
+          "[broadphase]") {
   for (const bool periodic : {false, true}) {
     CAPTURE(periodic);
     check_kept_tree(0.0, 0.3, periodic);  // most moves stay inside the fat boxes
@@ -78,7 +79,8 @@ TEST_CASE("broadphase kept across rebuilds finds exactly the pairs within the sk
   }
 }
 
-TEST_CASE("broadphase finds exactly the pairs within the skin far from the origin, where floats are coarse") {
+TEST_CASE("broadphase finds exactly the pairs within the skin far from the origin, where floats are coarse",
+          "[broadphase]") {
   // 40 km from the origin the tree (one skin a unit) works at 1e8 units, where a float's spacing
   // is 8 units, more than a disc's box and the fat boxes' slack: only the monotone rounding and
   // Box2D's inclusive overlap test keep every pair (broadphase.h).
