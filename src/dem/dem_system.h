@@ -331,15 +331,11 @@ class DemSystem final : public OdeSystem {
 
   // Conduction (stage_conduction.cpp).
   double pair_conductance(const double* px, const double* py, int p) const;
-  // ... of candidate p, touching, its centres `dist` apart with `overlap` (inlined in the contact
-  // pass, which has the geometry already). Hertz conductance takes the elastic normal force: the
+  // ... of a touching contact of law `law` with normal coefficients k, c and radii r_i, r_j (r_j
+  // infinite: a wall), its centres (or centre and wall) `dist` apart with `overlap`; inlined in
+  // the contact pass, which has all of them in registers or cache (loaded again through the
+  // lists, they cost a tenth of its time). Hertz conductance takes the elastic normal force: the
   // contact radius is set by the elastic deformation, the dashpot does not widen it.
-  double touching_pair_conductance(int p, double dist, double overlap) const {
-    return touching_conductance(pp_.law[p], pp_.k[p], pp_.c[p], radius_[pp_.i[p]], radius_[pp_.j[p]], dist, overlap);
-  }
-  // ... of a contact of law `law` with normal coefficients k, c and radii r_i, r_j (r_j infinite:
-  // a wall; the pair loop has them in registers or cache: loaded again through the lists, they
-  // cost a tenth of its time).
   [[gnu::always_inline]] double touching_conductance(int law, double k, double c, double ri, double rj, double dist,
                                                      double overlap) const {
     const ContactCoefficients& lf = laws_[law];

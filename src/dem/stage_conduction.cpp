@@ -13,7 +13,7 @@ double DemSystem::pair_conductance(const double* px, const double* py, int p) co
   const double d2 = dv.x * dv.x + dv.y * dv.y;
   if (d2 >= rsum * rsum) return 0;
   const double d = std::sqrt(d2);
-  return touching_pair_conductance(p, d, rsum - d);
+  return touching_conductance(pp_.law[p], pp_.k[p], pp_.c[p], radius_[i], radius_[j], d, rsum - d);
 }
 
 // Conductance between particle pw.i[p] and its wall segment (walls at their geometry a, b), 0
