@@ -82,9 +82,9 @@ void ArkodeIntegrator::state(SnapshotFields& f) {
   fields(f, t_arkode, h);
 }
 
-// ARKODE's own time and its current step, as it holds them.
+// ARKODE's own time and its current step, as it holds them (not started: the integrator's own).
 void ArkodeIntegrator::fields(SnapshotFields& f, double& t_arkode, double& h) {
-  if (f.saving()) {
+  if (f.saving() && memory_) {
     ARKStepGetCurrentTime(memory_, &t_arkode);
     ARKStepGetCurrentStep(memory_, &h);
   }
@@ -349,12 +349,16 @@ void ArkodeIntegrator::refresh_stats() {
 nlohmann::json ArkodeIntegrator::statistics() const {
   long steps = 0, attempts = 0, fails = 0, fe = 0, fi = 0, newton = 0;
   double last = 0;
-  ARKStepGetNumSteps(memory_, &steps);
-  ARKStepGetNumStepAttempts(memory_, &attempts);
-  ARKStepGetNumErrTestFails(memory_, &fails);
-  ARKStepGetNumRhsEvals(memory_, &fe, &fi);
-  ARKStepGetLastStep(memory_, &last);
-  if (implicit_) ARKStepGetNumNonlinSolvIters(memory_, &newton);
+  // Not started (a frozen scene's mechanics integrator, saved in its start's checkpoint): no steps
+  // yet, and ARKODE would report its missing memory on stderr (as fields() would).
+  if (memory_) {
+    ARKStepGetNumSteps(memory_, &steps);
+    ARKStepGetNumStepAttempts(memory_, &attempts);
+    ARKStepGetNumErrTestFails(memory_, &fails);
+    ARKStepGetNumRhsEvals(memory_, &fe, &fi);
+    ARKStepGetLastStep(memory_, &last);
+    if (implicit_) ARKStepGetNumNonlinSolvIters(memory_, &newton);
+  }
   nlohmann::json stats = {{"steps", steps},
                           {"attempts", attempts},
                           {"error_test_failures", fails},

@@ -187,6 +187,22 @@ TEST_CASE("kiln run writes result.h5, result.xdmf, summary.json and picture.png,
   fs::remove_all(dir);
 }
 
+TEST_CASE("a quiet run of a frozen heat scene under an ARKODE method prints nothing", "[outputs]") {
+  // The start's checkpoint asked the mechanics integrator, never started in a frozen scene, for its
+  // statistics: ARKODE printed "arkode_mem = NULL illegal" five times on a healthy run.
+  const fs::path dir = testing::fresh_dir("quiet_frozen");
+  fs::create_directories(dir);
+  const fs::path log = dir / "log.txt";
+  const std::string cmd = std::string(KILN_BINARY) + " run " + testing::case_path("t4_two_particle_conduction.yaml") +
+                          " --integrator erk4 --dt 0.04 --t-end 0.8 --quiet --out " + (dir / "run").string() + " > " +
+                          log.string() + " 2>&1";
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  std::ifstream in(log);
+  const std::string printed((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  CHECK(printed.empty());
+  fs::remove_all(dir);
+}
+
 TEST_CASE("a bad --set on the command line fails with exit code 2 and writes nothing", "[outputs]") {
   const fs::path dir = testing::fresh_dir("bad");
   const std::string cmd = std::string(KILN_BINARY) + " run " + testing::case_path("t1_free_fall.yaml") +
