@@ -181,6 +181,9 @@ struct IntegratorInfo {
   // Euler and Heun (and so for the Verlet schemes' temperatures), 2.51 for third-order and 2.79
   // for fourth-order four-stage tables; infinite for IMEX (conduction implicit).
   double real_stability = 2;
+  // How many times a step rounds each position: a far-away scene loses up to half an ulp of its
+  // positions at each (the energy check allows for it). The Verlet schemes drift once.
+  int position_roundings = 1;
 };
 
 // real_stability of the integrator with this name (aliases included); 2 for an unknown name.

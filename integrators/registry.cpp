@@ -3,6 +3,7 @@
 
 #include <arkode/arkode_butcher_erk.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <stdexcept>
@@ -10,6 +11,7 @@
 
 #include "integrators/arkode.h"
 #include "integrators/integrator.h"
+#include "integrators/stability_region.h"
 #include "integrators/velocity_verlet.h"
 #include "integrators/verlet.h"
 #include "src/base/error.h"
@@ -41,34 +43,6 @@ const std::pair<const char*, const char*> aliases[] = {
     {"erk5", "erk:DORMAND_PRINCE_7_4_5"}, {"erk6", "erk:VERNER_8_5_6"},       {"erk8", "erk:FEHLBERG_13_7_8"},
     {"imex3", "imex:ARK324L2SA"},        {"imex4", "imex:ARK436L2SA"},       {"imex5", "imex:ARK548L2SA"}};
 
-// The reach of an explicit table's stability region along the negative real axis: the first
-// z < 0 with |R(z)| > 1, R(z) = 1 + z b^T (I - z A)^-1 1 evaluated stage by stage (A is strictly
-// lower triangular). Scanned in steps of 0.01, then bisected.
-double real_axis_reach(ARKodeButcherTable t) {
-  auto stable = [&](double z) {
-    std::vector<double> stage(t->stages);
-    double r = 1;
-    for (int i = 0; i < t->stages; ++i) {
-      double sum = 0;
-      for (int j = 0; j < i; ++j) sum += t->A[i][j] * stage[j];
-      stage[i] = 1 + z * sum;
-      r += z * t->b[i] * stage[i];
-    }
-    return std::abs(r) <= 1 + 1e-12;
-  };
-  double lo = 0, hi = 0;
-  for (double z = -0.01; z > -50; z -= 0.01) {
-    if (!stable(z)) {
-      hi = z;
-      break;
-    }
-    lo = z;
-  }
-  if (hi == 0) hi = -50;
-  for (int k = 0; k < 50; ++k) (stable(0.5 * (lo + hi)) ? lo : hi) = 0.5 * (lo + hi);
-  return -lo;
-}
-
 // An ARKODE method's entry, its orders and reach read from its own Butcher table(s): the method
 // order q and the embedding's p (0: none) as SUNDIALS defines them.
 IntegratorInfo arkode_entry(std::string name, const char* erk, const char* dirk, std::string summary) {
@@ -82,8 +56,11 @@ IntegratorInfo arkode_entry(std::string name, const char* erk, const char* dirk,
   ARKodeButcherTable t = load_butcher_table(erk, false);
   info.order = info.order_with_dashpot = t->q;
   info.embedding = t->p;
-  info.real_stability = info.implicit ? INFINITY : real_axis_reach(t);
+  // ARKODE adds the stages' slopes to y_n one at a time (N_VLinearCombination): each nonzero
+  // weight of b rounds every position once.
+  info.position_roundings = static_cast<int>(std::count_if(t->b, t->b + t->stages, [](double b) { return b != 0; }));
   ARKodeButcherTable_Free(t);
+  info.real_stability = info.implicit ? INFINITY : reach_along(StabilityFunction(erk), {-1, 0});
   info.summary = std::move(summary);
   return info;
 }

@@ -18,27 +18,50 @@ class CheckCommand final : public Command {
       : Command(app.add_subcommand("check", "validate a scene and print its time-step estimates")) {
     add_scene_options(cli_, scene_args_);
     cli_->get_option("scene")->required();
+    cli_->add_flag("--json", json_, "write the estimates and the verdict as JSON on standard output");
   }
 
   int run() override {
     const SceneArgs& a = scene_args_;
     const Scene scene = load(a);
     const StabilityEstimate est = estimate_stability(scene);
+    const DtVerdict verdict = judge_dt(est, scene.dt, scene);
+    if (json_) {
+      nlohmann::json j = {{"scene", scene.name}, {"dt", scene.dt}, {"estimate", estimate_json(est)},
+                          {"refused", verdict.unstable}, {"warnings", verdict.warnings}};
+      j["estimate"]["limit_fraction"] = std::isfinite(est.dt_limit) && est.dt_limit > 0 ? nlohmann::json(scene.dt / est.dt_limit) : nlohmann::json(nullptr);
+      std::printf("%s\n", j.dump(2).c_str());
+      return verdict.unstable ? exit_refused : exit_success;
+    }
     std::printf("scene %s: %d particles, %zu wall segments, integrator %s, dt %.4g s\n", scene.name.c_str(),
                 scene.n_particles(), scene.segments.size(), scene.integrator.c_str(), scene.dt);
     if (scene.frozen) {
       std::printf("  mechanics frozen: no mechanical time step\n");
     } else {
-      std::printf("  shortest contact duration  %.4g s (%s); dt is 1/%.1f of it\n", est.contact_duration,
-                  est.shortest_pair.c_str(), est.contact_duration / scene.dt);
-      std::printf("  stability limit of dt      %.4g s (central difference on the stiffest contact%s)\n", est.dt_limit,
-                  scene.n_particles() >= 2 ? ", a disc between two: / sqrt 2" : "");
+      if (std::isfinite(est.contact_duration))
+        std::printf("  shortest contact duration  %.4g s (%s); dt is 1/%.1f of it\n", est.contact_duration,
+                    est.shortest_pair.c_str(), est.contact_duration / scene.dt);
+      const MechanicalLimit& l = est.limit;
+      if (!std::isfinite(est.contact_duration))
+        std::printf("  stability limit of dt      none: no contact can form (%s)\n",
+                    scene.n_particles() > 1 ? "no walls, no particles approaching" : "one particle, no walls");
+      else if (std::isinf(l.dt))
+        std::printf("  stability limit of dt      none from the contacts analysed (%s)\n", l.state.c_str());
+      else if (l.dt == 0)
+        std::printf("  stability limit of dt      none: %s\n", describe_limit(est).c_str());
+      else
+        std::printf("  stability limit of dt      %.4g s for %s (dt is %.3g of it): the %s mode of %s, on %s\n"
+                    "                             (%d coordinates, %d contacts; stiffest mode %.4g rad/s)\n",
+                    l.dt, est.integrator.c_str(), scene.dt / l.dt, l.mode.c_str(), l.where.c_str(), l.state.c_str(),
+                    l.coordinates, l.contacts, l.omega_max);
       if (std::isfinite(est.rayleigh))
         std::printf("  Rayleigh time step         %.4g s (smallest particle); dt is %.1f %% of it\n", est.rayleigh,
                     100 * scene.dt / est.rayleigh);
       else
         std::printf("  Rayleigh time step         n/a (no youngs_modulus given)\n");
-      std::printf("  recommended dt             %.4g s (contact duration / 50)\n", est.recommended_dt);
+      if (std::isfinite(est.recommended_dt))
+        std::printf("  recommended dt             %.4g s (contact duration / 50; %.3g of the limit)\n", est.recommended_dt,
+                    est.recommended_dt / est.dt_limit);
     }
     if (scene.thermal) {
       std::printf("  explicit conduction limit  %.4g s (2 / lambda_max, contact network at t = 0)",
@@ -53,7 +76,6 @@ class CheckCommand final : public Command {
       std::printf("\n  thermal relaxation time    %.4g s (fastest mode, 1 / lambda_max)\n", est.thermal_relaxation_time);
     }
     std::fflush(stdout);  // the verdict goes to stderr, after the table
-    const DtVerdict verdict = judge_dt(est, scene.dt, scene);
     for (const std::string& w : verdict.warnings)
       std::fprintf(stderr, "%s: %s\n", verdict.unstable ? "error" : "warning", w.c_str());
     return verdict.unstable ? exit_refused : exit_success;
@@ -61,6 +83,7 @@ class CheckCommand final : public Command {
 
  private:
   SceneArgs scene_args_;
+  bool json_ = false;
 };
 
 }  // namespace

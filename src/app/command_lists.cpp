@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "integrators/integrator.h"
+#include "integrators/stability_region.h"
 #include "src/app/command.h"
 #include "src/scene/scene_yaml.h"
 
@@ -36,12 +37,21 @@ class IntegratorsCommand final : public Command {
       : Command(app.add_subcommand("integrators", "list the integrators with their orders")) {}
 
   int run() override {
-    std::printf("%-30s %5s %9s %9s %6s  %s\n", "name", "order", "dashpot", "embedded", "adapts", "scheme");
-    for (const auto& info : integrator_catalogue())
-      std::printf("%-30s %5d %9d %9s %6s  %s\n", info.name.c_str(), info.order, info.order_with_dashpot,
+    std::printf("%-30s %5s %9s %9s %6s %9s %9s  %s\n", "name", "order", "dashpot", "embedded", "adapts", "imag",
+                "neg.real", "scheme");
+    for (const auto& info : integrator_catalogue()) {
+      const StabilityIntervals s = stability_intervals(info);
+      std::printf("%-30s %5d %9d %9s %6s %9.4g %9.4g  %s\n", info.name.c_str(), info.order, info.order_with_dashpot,
                   info.embedding ? std::to_string(info.embedding).c_str() : "-", info.embedding ? "yes" : "no",
-                  info.summary.c_str());
-    std::printf("(order: nominal order on smooth forces; dashpot: order when forces depend on velocity)\n");
+                  s.imaginary, s.negative_real, info.summary.c_str());
+    }
+    std::printf(
+        "(order: nominal order on smooth forces; dashpot: order when forces depend on velocity;\n"
+        " imag, neg.real: the stability interval in dt |lambda| on the imaginary axis (an undamped spring:\n"
+        " stable while dt omega is below it) and on the negative real axis (a dashpot alone: while c dt / m is\n"
+        " below it; for an explicit table also a conduction mode); an IMEX pair's are its explicit table's,\n"
+        " which takes the mechanics, its conduction being implicit; the Verlet schemes step temperatures\n"
+        " by Heun's method, reach 2)\n");
     return 0;
   }
 };

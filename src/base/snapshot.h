@@ -35,6 +35,12 @@ class Snapshot {
     out.assign(v.begin(), v.end());
   }
   const std::string& text(const std::string& key) const;
+  // The keys of the real arrays, in order.
+  std::vector<std::string> real_keys() const {
+    std::vector<std::string> keys;
+    for (const auto& entry : reals_) keys.push_back(entry.first);
+    return keys;
+  }
   bool has(const std::string& key) const {
     return reals_.count(key) || integers_.count(key) || texts_.count(key);
   }

@@ -57,6 +57,17 @@ struct ConductanceLink {
   double h = 0;  // W/K
 };
 
+// One touching contact linearised at a state (src/dem/contact_springs.cpp): where it acts and
+// the slopes of its laws there, for the stability limit (src/run/linearised_dynamics.h).
+struct ContactSprings {
+  int i = 0, j = 0;             // particles (j < 0: wall -1 - j)
+  Vec2 normal;                  // unit, from i towards the other body
+  double arm_i = 0, arm_j = 0;  // lever arms to the contact point (m; a wall's: 0)
+  double kn = 0, cn = 0;        // normal: dF/d(overlap) (N/m) and dashpot (N s/m)
+  double kt = 0, ct = 0;        // tangential spring and dashpot; 0 without friction or while sliding
+  double kr = 0, cr = 0;        // rolling spring (N m/rad) and dashpot; 0 without, or while rolling
+};
+
 class DemSystem final : public OdeSystem {
  public:
   explicit DemSystem(const Scene& scene);
@@ -127,6 +138,12 @@ class DemSystem final : public OdeSystem {
   // Conductances of the contacts active in state y at time t (with elastic normal forces): the
   // network that a frozen stage integrates.
   std::vector<ConductanceLink> conduction_links(double t, const double* y) const;
+  // The contacts touching in state y at time t (lists prepared for it), linearised: a contact
+  // whose committed spring sits at its Coulomb (or rolling) cap slides (rolls) and holds no
+  // spring there. Attached particles appear as particles (attached() says which).
+  std::vector<ContactSprings> contact_springs(double t, const double* y) const;
+  // Index of wall w's load-controlled body (its coordinate at body_at() + index), or -1.
+  int body_of_wall(int w) const { return body_of_wall_[w]; }
 
   double mass(int i) const { return mass_[i]; }
   double inertia(int i) const { return inertia_[i]; }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "src/base/symmetric_eigen.h"
+
 namespace kiln::thermal {
 
 FrozenConduction::FrozenConduction(std::vector<ConductanceLink> links, std::vector<double> capacity,
@@ -47,16 +49,23 @@ FrozenConduction freeze_network(const DemSystem& system, double t, const double*
 }
 
 double FrozenConduction::stiffest_rate() const {
-  std::vector<double> row(inv_capacity_.size(), 0.0);
-  // Gershgorin: row i holds its diagonal sum_j H_ij + H_iw and as much again off the diagonal
-  // (walls have no column).
+  // C^-1 L is similar to the symmetric C^-1/2 L C^-1/2: the same eigenvalues, found from that.
+  std::vector<Eigen::Triplet<double>> entries;
+  auto add = [&](int a, int b, double h) {
+    entries.emplace_back(a, b, h * std::sqrt(inv_capacity_[a] * inv_capacity_[b]));
+  };
   for (const ConductanceLink& link : links_) {
-    row[link.i] += link.j >= 0 ? 2 * link.h : link.h;
-    if (link.j >= 0) row[link.j] += 2 * link.h;
+    add(link.i, link.i, link.h);
+    if (link.j < 0) continue;  // a wall: its conductance on the diagonal alone
+    add(link.j, link.j, link.h);
+    add(link.i, link.j, -link.h);
+    add(link.j, link.i, -link.h);
   }
-  double worst = 0;
-  for (size_t i = 0; i < row.size(); ++i) worst = std::max(worst, row[i] * inv_capacity_[i]);
-  return worst;
+  const int n = static_cast<int>(inv_capacity_.size());
+  Eigen::SparseMatrix<double> a(n, n);
+  a.setFromTriplets(entries.begin(), entries.end());
+  if (a.nonZeros() == 0) return 0;
+  return std::max(0.0, largest_eigenpairs(a, 1).values[0]);
 }
 
 }  // namespace kiln::thermal

@@ -38,7 +38,8 @@ class FrozenConduction final : public OdeSystem {
     return atol;
   }
 
-  // Largest |eigenvalue| bound of C^-1 L (Gershgorin): explicit stepping is stable below 2 / it.
+  // The largest eigenvalue of C^-1 L (1/s), the fastest thermal mode: explicit stepping is stable
+  // below reach / it (2 for forward Euler and Heun). Not Gershgorin's bound, up to twice as large.
   double stiffest_rate() const;
   const std::vector<ConductanceLink>& links() const { return links_; }
 

@@ -9,14 +9,16 @@
 #include "src/dem/contact_coefficients.h"
 #include "src/dem/dem_system.h"
 #include "src/dem/frozen_conduction.h"
+#include "integrators/stability_region.h"
+#include "src/run/linearised_dynamics.h"
 
 namespace kiln {
 
 namespace {
 
 // The highest speeds at which a disc can meet a wall and another disc: a disc moves at most at its
-// largest initial speed (random_velocity included) plus a free fall over the scene's height along
-// g plus the largest speed of a moving wall (a wall pushes it: WallMotion::largest_speed, a
+// largest initial speed (random_velocity included) plus, with walls, a free fall over the scene's
+// height along g plus the largest speed of a moving wall (a wall pushes it: WallMotion::largest_speed, a
 // load-controlled wall's driven speed included), and two discs can approach each other at twice
 // that. Speeds are taken with hypot, which does not overflow below 1.8e308; a bound that is still
 // not finite (speeds or g near the largest double) is refused by judge_dt.
@@ -42,7 +44,10 @@ ImpactSpeeds impact_speeds(const Scene& scene) {
   double wall_speed = 0;
   for (size_t w = 0; w < scene.walls.size(); ++w)
     wall_speed = std::max(wall_speed, scene.walls[w].motion.largest_speed(scene.segments, static_cast<int>(w)));
-  const double fall = std::sqrt(2 * g) * std::sqrt(std::max(0.0, hi - lo));
+  // Gravity speeds every disc up alike: it adds to an impact only against a wall, and against a
+  // disc that a wall threw back. Without walls discs meet at their initial speeds.
+  const bool walls = !scene.segments.empty();
+  const double fall = walls ? std::sqrt(2 * g) * std::sqrt(std::max(0.0, hi - lo)) : 0.0;
   const double disc = v0 + fall + wall_speed;
   return {std::max(disc, 1e-3), std::max(2 * disc, 1e-3)};
 }
@@ -91,7 +96,9 @@ void thermal_estimate(const Scene& scene, const std::vector<double>& rmin, const
         const double h = thermal::conductance(pair.conduction, ra, rb, ra + rb - overlap, fn);
         const Material& ma = scene.materials[a];
         const double c = disc_mass(scene, ra, ma.density) * ma.specific_heat;
-        lambda = std::max(lambda, 2 * 6 * h / c);
+        // The largest eigenvalue of a triangular lattice's Laplacian: 9 h (six neighbours;
+        // Gershgorin's bound is 12 h).
+        lambda = std::max(lambda, 9 * h / c);
       }
   }
   if (lambda > 0) {
@@ -102,7 +109,129 @@ void thermal_estimate(const Scene& scene, const std::vector<double>& rmin, const
 
 }  // namespace
 
-StabilityEstimate estimate_stability(const Scene& scene) {
+MechanicalLimit mechanical_limit(const DemSystem& system, double t, const double* y, const std::string& integrator,
+                                 const std::string& state) {
+  const LinearisedMechanics m = linearise_mechanics(system, t, y);
+  const StepLimit step = mechanical_step_limit(integrator_info(integrator), m.k, m.c);
+  MechanicalLimit out;
+  out.dt = step.dt;
+  out.state = state;
+  out.omega_max = m.omega_max;
+  out.coordinates = m.coordinates;
+  out.contacts = static_cast<int>(m.contacts.size());
+  const ModeDescription d = describe_mode(m, step.shape, system.scene());
+  out.mode = d.kind;
+  out.where = d.where;
+  return out;
+}
+
+namespace {
+
+// The scene with its particles and segments replaced by one contact: two discs of radii ra, rb
+// and materials a, b (wall < 0), or a disc of radius ra and material a on segment `segment`,
+// at `overlap`; at rest, in no periodic cell.
+Scene lone_contact(const Scene& scene, int a, double ra, int b, double rb, int segment, double overlap) {
+  Scene probe = scene;
+  probe.position.clear();
+  probe.velocity.clear();
+  probe.radius.clear();
+  probe.angular_velocity.clear();
+  probe.material.clear();
+  probe.attached.clear();
+  probe.periodic = {};
+  probe.frozen = false;
+  auto disc = [&](int material, double r, Vec2 at) {
+    probe.position.push_back(at);
+    probe.velocity.push_back({0, 0});
+    probe.radius.push_back(r);
+    probe.angular_velocity.push_back(0);
+    probe.material.push_back(material);
+    probe.attached.push_back(Scene::free_particle);
+  };
+  probe.segments.clear();
+  if (segment < 0) {
+    disc(a, ra, {0, 0});
+    disc(b, rb, {ra + rb - overlap, 0});
+  } else {
+    Segment s = scene.segments[segment];
+    s.prev = -1;
+    s.next_shared = false;
+    probe.segments.push_back(s);
+    const Vec2 along = s.b - s.a, middle = 0.5 * (s.a + s.b);
+    const Vec2 normal = (1 / norm(along)) * perp(along);
+    disc(a, ra, middle + (ra - overlap) * normal);
+  }
+  if (probe.thermal) probe.temperature.assign(probe.radius.size(), scene.temperature.front());
+  return probe;
+}
+
+MechanicalLimit probe_limit(const Scene& probe, const std::string& integrator, const std::string& state) {
+  DemSystem system(probe);
+  const std::vector<double> y = system.initial_state();
+  system.prepare(0, y.data(), 0);
+  return mechanical_limit(system, 0, y.data(), integrator, state);
+}
+
+// f(a, b, m_eff, r_eff) for each pair of materials a <= b the scene can bring together, as their
+// smallest particles (count: particles per material; a material with itself needs two).
+template <class F>
+void for_each_material_pair(const Scene& scene, const std::vector<double>& rmin, const std::vector<int>& count, F f) {
+  const int nm = scene.n_materials();
+  for (int a = 0; a < nm; ++a)
+    for (int b = a; b < nm; ++b) {
+      if (!count[a] || !count[b] || (a == b && count[a] < 2)) continue;
+      const double mass_a = disc_mass(scene, rmin[a], scene.materials[a].density);
+      const double mass_b = disc_mass(scene, rmin[b], scene.materials[b].density);
+      f(a, b, mass_a * mass_b / (mass_a + mass_b), rmin[a] * rmin[b] / (rmin[a] + rmin[b]));
+    }
+}
+
+// The overlap a lone contact reaches: a Hertz spring's at the impact speed (its stiffness grows
+// with it), 1 % of the smaller radius for a linear one (whose slope does not depend on it).
+double probe_overlap(const Scene& scene, int a, int b, double m_eff, double r_eff, double r_small, double speed) {
+  const ContactCoefficients pair = contact_coefficients(scene, a, b);
+  if (pair.law.model != contact::NormalModel::hertz) return 0.01 * r_small;
+  const double k = pair.normal_stiffness(r_eff);
+  return std::min(0.5 * r_small, std::pow(1.25 * m_eff * speed * speed / k, 0.4));
+}
+
+MechanicalLimit scene_limit(const Scene& scene, const std::string& integrator, const std::vector<double>& rmin,
+                            const std::vector<int>& count, const ImpactSpeeds& speeds) {
+  MechanicalLimit best;
+  auto consider = [&](const MechanicalLimit& l) {
+    if (l.dt < best.dt || (std::isinf(best.dt) && best.state.empty())) best = l;
+  };
+  {
+    DemSystem system(scene);
+    const std::vector<double> y = system.initial_state();
+    system.prepare(0, y.data(), 0);
+    consider(mechanical_limit(system, 0, y.data(), integrator, "the contacts at t = 0"));
+  }
+  for_each_material_pair(scene, rmin, count, [&](int a, int b, double m_eff, double r_eff) {
+    const double overlap = probe_overlap(scene, a, b, m_eff, r_eff, std::min(rmin[a], rmin[b]), speeds.pair);
+    consider(probe_limit(lone_contact(scene, a, rmin[a], b, rmin[b], -1, overlap), integrator,
+                         "a lone " + scene.materials[a].name + "-" + scene.materials[b].name + " contact"));
+  });
+  for (int a = 0; a < scene.n_materials(); ++a) {
+    if (!count[a]) continue;
+    const Material& ma = scene.materials[a];
+    const double mass_a = disc_mass(scene, rmin[a], ma.density);
+    for (size_t w = 0; w < scene.walls.size(); ++w) {
+      int segment = -1;
+      for (size_t s = 0; s < scene.segments.size() && segment < 0; ++s)
+        if (scene.segments[s].wall == static_cast<int>(w)) segment = static_cast<int>(s);
+      if (segment < 0) continue;
+      const double overlap = probe_overlap(scene, a, scene.walls[w].material, mass_a, rmin[a], rmin[a], speeds.wall);
+      consider(probe_limit(lone_contact(scene, a, rmin[a], -1, 0, segment, overlap), integrator,
+                           "a lone " + ma.name + " contact with wall " + scene.walls[w].name));
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+StabilityEstimate estimate_stability(const Scene& scene, const std::string& integrator) {
   StabilityEstimate est;
   const ImpactSpeeds speeds = impact_speeds(scene);
   est.impact_speed = std::max(speeds.wall, speeds.pair);
@@ -114,31 +243,21 @@ StabilityEstimate estimate_stability(const Scene& scene) {
     rmin[scene.material[i]] = std::min(rmin[scene.material[i]], scene.radius[i]);
     ++count[scene.material[i]];
   }
-  // A disc pressed between two contacts (a chain, a pile) has a faster mode than a lone pair: the
-  // zone-boundary mode of a chain of equal masses, omega = 2 sqrt(k/m) = sqrt(2) sqrt(k/m_eff) with
-  // m_eff = m/2 (a disc between a wall and another disc alike): the safe bound. (The damped,
-  // frictional T3 pile and T6 drum hold to 1.6 times it, docs/studies.md.)
-  const bool packed = scene.n_particles() >= 2;
   auto consider = [&](int a, int b, double m_eff, double r_eff, double speed, const std::string& label) {
     const contact::NormalLaw nl = contact_coefficients(scene, a, b).normal_law(m_eff, r_eff);
     const double duration = contact::contact_duration(nl, m_eff, speed);
-    const double omega = contact::limiting_frequency(nl, m_eff, speed);
     if (duration < est.contact_duration) {
       est.contact_duration = duration;
       est.shortest_pair = label;
     }
-    est.dt_limit = std::min(est.dt_limit, 2 / (packed ? std::sqrt(2.0) * omega : omega));
   };
+  for_each_material_pair(scene, rmin, count, [&](int a, int b, double m_eff, double r_eff) {
+    consider(a, b, m_eff, r_eff, speeds.pair, scene.materials[a].name + "-" + scene.materials[b].name);
+  });
   for (int a = 0; a < nm; ++a) {
     if (!count[a]) continue;
     const Material& ma = scene.materials[a];
     const double mass_a = disc_mass(scene, rmin[a], ma.density);
-    for (int b = a; b < nm; ++b) {
-      if (!count[b] || (a == b && count[a] < 2)) continue;
-      const double mass_b = disc_mass(scene, rmin[b], scene.materials[b].density);
-      consider(a, b, mass_a * mass_b / (mass_a + mass_b), rmin[a] * rmin[b] / (rmin[a] + rmin[b]), speeds.pair,
-               ma.name + "-" + scene.materials[b].name);
-    }
     // A wall is of infinite mass, except a load-controlled wall body. It bears on as many contacts
     // as discs fit along it (and two for each disc attached to it), springs in parallel: its
     // fastest mode is that of its mass shared among them.
@@ -162,8 +281,17 @@ StabilityEstimate estimate_stability(const Scene& scene) {
                                                 (0.1631 * ma.contact.poisson_ratio + 0.8766));
     }
   }
-  est.recommended_dt = est.contact_duration / 50;
-  if (scene.thermal) thermal_estimate(scene, rmin, count, est);
+  if (!scene.frozen) {
+    est.integrator = integrator.empty() ? scene.integrator : integrator;
+    est.limit = scene_limit(scene, est.integrator, rmin, count, speeds);
+    est.dt_limit = est.limit.dt;
+  }
+  est.recommended_dt = std::min(est.contact_duration / 50, est.dt_limit);
+  if (scene.thermal) {
+    thermal_estimate(scene, rmin, count, est);
+    est.conduction_dt_limit =
+        real_stability_of(integrator.empty() ? scene.integrator : integrator) / 2 * est.thermal_dt_limit_network;
+  }
   return est;
 }
 
@@ -204,10 +332,13 @@ void judge_conduction(const StabilityEstimate& est, double dt, const Scene& scen
 void judge_mechanics(const StabilityEstimate& est, double dt, const Scene& scene, DtVerdict& v) {
   std::ostringstream s;
   // A step that carries a disc past another body by more than the smallest radius can jump over the
-  // whole overlap band (2 r wide) without one evaluation inside it: the contact is never seen.
+  // whole overlap band (2 r wide) without one evaluation inside it: the contact is never seen. It
+  // needs another body: a second disc, or a wall.
   const double r_min = *std::min_element(scene.radius.begin(), scene.radius.end());
   const ImpactSpeeds speeds = impact_speeds(scene);
-  const double approach = scene.n_particles() > 1 ? speeds.pair : speeds.wall;
+  const bool pairs = scene.n_particles() > 1, walls = !scene.segments.empty();
+  const double approach = pairs ? speeds.pair : walls ? speeds.wall : 0.0;
+  const MechanicalLimit& l = est.limit;
   if (!std::isfinite(approach)) {
     s << "the highest impact speed is not a finite number: initial speeds, gravity or wall speeds are too large "
       << "for double precision (about 1.8e308), so no dt carries a disc safely";
@@ -215,15 +346,23 @@ void judge_mechanics(const StabilityEstimate& est, double dt, const Scene& scene
     s << "dt x impact speed = " << dt << " s x " << approach << " m/s = " << dt * approach
       << " m is more than the smallest radius (" << r_min << " m): a disc can pass through a wall or another disc "
       << "between two steps; lower dt below " << r_min / approach << " s";
-  } else if (dt >= est.dt_limit) {
-    s << "dt = " << dt << " s is beyond the stability limit " << est.dt_limit
-      << " s of the stiffest contact: the run will blow up";
+  } else if (l.dt > 0 && dt >= l.dt) {
+    s << "dt = " << dt << " s is beyond " << est.integrator << "'s stability limit " << l.dt << " s on " << l.state
+      << " (its " << l.mode << " mode, " << l.where << "): the run will blow up";
   }
   if (!s.str().empty()) {
     v.unstable = true;
     v.warnings.push_back(s.str());
     return;
   }
+  if (l.dt == 0) {
+    s << est.integrator << " has no stable step on " << l.state << ": its " << l.mode << " mode (" << l.where
+      << ") is undamped, and the method's stability region leaves out the imaginary axis near 0; the energy grows "
+      << "by about (dt omega)^4 / 8 a step (see 'kiln integrators': a table with an imaginary interval, or a dashpot)";
+    v.warnings.push_back(s.str());
+    return;
+  }
+  if (!std::isfinite(est.contact_duration)) return;  // no contact can form: no step is too small or large
   const double per_contact = est.contact_duration / dt;
   if (per_contact < 20) {
     s << "only " << per_contact << " steps per contact (" << est.shortest_pair
@@ -241,6 +380,42 @@ void judge_mechanics(const StabilityEstimate& est, double dt, const Scene& scene
 }
 
 }  // namespace
+
+std::string describe_limit(const StabilityEstimate& est) {
+  const MechanicalLimit& l = est.limit;
+  std::ostringstream s;
+  if (est.integrator.empty()) return "mechanics frozen: no mechanical limit";
+  if (std::isinf(l.dt)) return est.integrator + ": no contact limits the step";
+  if (l.dt == 0)
+    s << est.integrator << " has no stable step on " << l.state << " (its undamped " << l.mode << " mode, " << l.where
+      << ")";
+  else
+    s << est.integrator << "'s limit " << l.dt << " s on " << l.state << " (" << l.mode << " mode, " << l.where << ")";
+  return s.str();
+}
+
+nlohmann::json estimate_json(const StabilityEstimate& est) {
+  auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
+  nlohmann::json j = {{"integrator", est.integrator},
+                      {"dt_limit", number(est.dt_limit)},
+                      {"binding_mode", est.limit.mode},
+                      {"binding_where", est.limit.where},
+                      {"state", est.limit.state},
+                      {"omega_max", est.limit.omega_max},
+                      {"coordinates", est.limit.coordinates},
+                      {"contacts", est.limit.contacts},
+                      {"recommended_dt", number(est.recommended_dt)},
+                      {"contact_duration", number(est.contact_duration)},
+                      {"shortest_pair", est.shortest_pair},
+                      {"rayleigh_dt", number(est.rayleigh)}};
+  if (std::isfinite(est.thermal_dt_limit_network) || std::isfinite(est.thermal_dt_limit)) {
+    j["thermal_dt_limit"] = number(est.thermal_dt_limit);
+    j["thermal_dt_limit_network"] = number(est.thermal_dt_limit_network);
+    j["thermal_relaxation_time"] = number(est.thermal_relaxation_time);
+    j["conduction_dt_limit"] = number(est.conduction_dt_limit);
+  }
+  return j;
+}
 
 DtVerdict judge_dt(const StabilityEstimate& est, double dt, const Scene& scene) {
   DtVerdict v;

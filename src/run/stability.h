@@ -1,6 +1,7 @@
 // Time-step estimates for a scene, printed by `kiln check` and quoted when a run goes unstable.
 #pragma once
 #include <cmath>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -17,24 +18,56 @@ constexpr double max_steps = 1e9;
 // more than max_steps steps; nothing otherwise.
 std::optional<std::string> too_many_steps(const char* step_name, double step, double duration);
 
+// An integrator's step limit on the linearised mechanics of one state of a scene
+// (src/run/linearised_dynamics.h, integrators/stability_region.h), and the mode that binds it.
+struct MechanicalLimit {
+  double dt = INFINITY;    // the largest stable step (s); inf: no spring or dashpot limits it
+  std::string mode;        // "normal", "tangential-rotational", "rolling", "wall body"
+  std::string where;       // "particles 3 and 7", "particle 0 on wall floor", "wall lid"
+  std::string state;       // the state analysed: "the contacts at t = 0", "a lone copper-copper contact"
+  double omega_max = 0;    // that state's stiffest undamped frequency (rad/s)
+  int coordinates = 0, contacts = 0;
+};
+
+class DemSystem;
+// The limit of `integrator` on the contacts of `system` in state y at time t (its lists
+// prepared there), described as `state`.
+MechanicalLimit mechanical_limit(const DemSystem& system, double t, const double* y, const std::string& integrator,
+                                 const std::string& state);
+
 struct StabilityEstimate {
   double contact_duration = INFINITY;  // shortest contact among the pairs the scene can form (s)
   std::string shortest_pair;           // e.g. "copper-copper" or "copper-wall(floor)"
   double rayleigh = INFINITY;          // Rayleigh time of the smallest particle (s); inf without E
-  double dt_limit = INFINITY;          // central-difference stability limit of the stiffest contact (s),
-                                       // divided by sqrt 2 when a disc can sit between two contacts
-  double recommended_dt = INFINITY;    // contact_duration / 50
+  // The integrator's limit: the smaller of the contacts present at t = 0 and, for contacts that
+  // form later, each pair of materials (and each material with each wall) touching alone at its
+  // impact overlap. Contacts that form a network later (a pile) can bind below it.
+  std::string integrator;              // whose limit
+  MechanicalLimit limit;
+  double dt_limit = INFINITY;          // limit.dt (s)
+  double recommended_dt = INFINITY;    // contact_duration / 50, at most half the limit
   double impact_speed = 0;             // highest impact speed for Hertz durations (m/s): two discs meet at
                                        // twice a disc's speed, a disc meets a wall at its own plus the wall's
   // Heat (thermal scenes): explicit stepping of conduction is stable below 2 / lambda_max, lambda_max
-  // bounded by Gershgorin on C^-1 L. From the contact network at t = 0, and for a dense packing
-  // (six neighbours at 1 % overlap) since contacts form later in dynamic scenes.
+  // the largest eigenvalue of C^-1 L (FrozenConduction::stiffest_rate). From the contact network
+  // at t = 0, and for a dense packing (a triangular lattice at 1 % overlap) since contacts form
+  // later in dynamic scenes.
   double thermal_dt_limit = INFINITY;          // the smaller of the two (a frozen scene: the network's)
   double thermal_dt_limit_network = INFINITY;  // from the contacts present at t = 0
   double thermal_relaxation_time = INFINITY;   // 1 / lambda_max: the fastest thermal mode
+  // The integrator's own explicit conduction limit on the network at t = 0: its reach on the
+  // negative real axis / lambda_max (inf when it takes conduction implicitly).
+  double conduction_dt_limit = INFINITY;
 };
 
-StabilityEstimate estimate_stability(const Scene& scene);
+// The estimate for `integrator` (empty: the scene's; a frozen scene's heat stage: freeze.integrator's).
+StabilityEstimate estimate_stability(const Scene& scene, const std::string& integrator = "");
+
+// "erk4's limit 5.84e-4 s on the contacts at t = 0 (tangential-rotational mode, particle 0 on
+// wall floor)", or why there is none.
+std::string describe_limit(const StabilityEstimate& estimate);
+// The estimate as summary.json, `kiln check --json` and `kiln sweep` write it.
+nlohmann::json estimate_json(const StabilityEstimate& estimate);
 
 // Findings about the scene's dt: warnings (text) and whether dt is certainly unstable.
 struct DtVerdict {

@@ -51,7 +51,8 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
       (probe[0].unstable ? unstable : stable) = probe[0].dt;
     }
   }
-  const StabilityEstimate est = estimate_stability(load_scene(o.scene, o.sets));
+  // The prediction for the integrator swept (its mechanics: a heat-stage sweep varies freeze.dt).
+  const StabilityEstimate est = estimate_stability(base, o.heat_stage ? "" : o.integrator);
 
   StudyReport report("sweep", {{"scene", base.name}});
   nlohmann::json& out = report.json();
@@ -62,10 +63,7 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   out["dt"] = dts;
   out["largest_stable_dt"] = stable > 0 ? nlohmann::json(stable) : nlohmann::json(nullptr);
   out["smallest_unstable_dt"] = unstable > 0 ? nlohmann::json(unstable) : nlohmann::json(nullptr);
-  out["estimate"] = {{"dt_limit", est.dt_limit},
-                     {"recommended_dt", est.recommended_dt},
-                     {"contact_duration", est.contact_duration}};
-  if (base.thermal) out["estimate"]["thermal_dt_limit"] = est.thermal_dt_limit;
+  out["estimate"] = estimate_json(est);
   // The limit that binds: conduction's alone on a frozen scene, the smaller of the two on a
   // thermal scene that moves, the contacts' otherwise.
   // Conduction's limit is 2 / lambda_max times the integrator's reach on the negative real axis / 2
@@ -73,7 +71,6 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   const double conduction_limit = real_stability_of(o.integrator) / 2 * est.thermal_dt_limit;
   const bool conduction_binds = base.thermal && (base.frozen || o.heat_stage || conduction_limit < est.dt_limit);
   const double limit = conduction_binds ? conduction_limit : est.dt_limit;
-  const char* limit_kind = conduction_binds ? "explicit conduction" : "contacts";
   out["estimate"]["binding_limit"] = limit;
   std::vector<std::string> header = {"dt", "stable"};
   header.insert(header.end(), quantities.begin(), quantities.end());
@@ -112,11 +109,22 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
     report.table("\n");
     report.csv_row(row);
   }
-  const std::string boundary =
-      stable > 0 && unstable > 0
-          ? format("stability boundary between %.5g and %.5g s; the estimate's limit is %.5g s (%s; recommended %.3g s)\n",
-                   stable, unstable, limit, limit_kind, est.recommended_dt)
-          : format("no stability boundary inside the sweep; the estimate's limit is %.5g s (%s)\n", limit, limit_kind);
+  const std::string predicted =
+      conduction_binds ? format("%.5g s (explicit conduction, %.4g / lambda_max)", limit, real_stability_of(o.integrator))
+                       : format("%.5g s (%s)", limit, describe_limit(est).c_str());
+  const std::string recommended = std::isfinite(est.recommended_dt) && limit > 0 && std::isfinite(limit)
+                                      ? format("; recommended dt %.3g s, %.3g of the limit", est.recommended_dt,
+                                               est.recommended_dt / limit)
+                                      : std::string();
+  std::string boundary;
+  if (stable > 0 && unstable > 0) {
+    const double measured = std::sqrt(stable * unstable);
+    out["measured_over_predicted"] = limit > 0 && std::isfinite(limit) ? nlohmann::json(measured / limit) : nlohmann::json(nullptr);
+    boundary = format("stability boundary between %.5g and %.5g s, predicted %s; measured / predicted %.3f%s\n",
+                      stable, unstable, predicted.c_str(), measured / limit, recommended.c_str());
+  } else {
+    boundary = format("no stability boundary inside the sweep; predicted %s%s\n", predicted.c_str(), recommended.c_str());
+  }
   report.publish(format("%s with %s to t = %g s (fields: difference from the smallest dt)\n\n", base.name.c_str(),
                         o.integrator.c_str(), t_end),
                  "\n" + boundary, o.out_dir, o.quiet);

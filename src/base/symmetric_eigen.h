@@ -1,0 +1,26 @@
+// The largest eigenpairs of a sparse symmetric matrix: what a stability limit needs of a scene's
+// mass-scaled stiffness, damping and conductance operators (src/run/linearised_dynamics.h).
+// Below dense_limit rows the matrix is decomposed whole (Eigen's SelfAdjointEigenSolver,
+// tridiagonalisation and QR: every eigenpair, exact to round-off); above it the implicitly
+// restarted Lanczos method of Spectra (Yixuan Qiu, "Spectra: Sparse Eigenvalue Computation Toolkit as a
+// Redesigned ARPACK", 2015-2023; the method: Lehoucq and Sorensen, "Deflation techniques for an implicitly restarted Arnoldi
+// iteration", SIAM J. Matrix Anal. Appl. 17, 1996) finds the largest few from matrix-vector products.
+#pragma once
+#include <Eigen/Dense>
+#include <Eigen/Sparse>
+
+namespace kiln {
+
+struct Eigenpairs {
+  Eigen::VectorXd values;   // largest first
+  Eigen::MatrixXd vectors;  // column k belongs to values[k]; orthonormal
+};
+
+// The `count` algebraically largest eigenpairs of symmetric `a` (fewer when a has fewer rows).
+// Throws std::runtime_error when the Lanczos iteration does not converge.
+Eigenpairs largest_eigenpairs(const Eigen::SparseMatrix<double>& a, int count);
+
+// Rows up to which largest_eigenpairs decomposes the matrix densely (a few tenths of a second).
+inline constexpr int dense_limit = 1200;
+
+}  // namespace kiln

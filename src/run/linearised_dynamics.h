@@ -1,0 +1,69 @@
+// A scene's mechanics linearised about a state: M q'' + C q' + K q = 0 over its free
+// coordinates, mass-scaled and reduced to the modes that can bind a step
+// (integrators/stability_region.h gives each integrator's limit on them).
+//
+// Coordinates: each free particle's x and y and, when the scene rotates, its angle; each
+// load-controlled wall body's position along its load. A particle attached to a wall body moves
+// with the body; walls and other attached particles are driven: no coordinate. Each touching
+// contact (DemSystem::contact_springs) adds its springs as k B B^T and its dashpots as c B B^T,
+// B the contact's relative displacement:
+//   normal       n . (u_i - u_j)
+//   tangential   t . (u_i - u_j) + arm_i theta_i + arm_j theta_j,  t = perp(n): the contact points' slip
+//   rolling      theta_i - theta_j
+// (a wall body's part: its displacement along the load, s e, in place of u_j); a wall body's own
+// dashpot adds to its diagonal. Mass-scaled, K~ = M^-1/2 K M^-1/2 (1/s^2) and C~ likewise (1/s).
+// Left out: the geometric stiffness of the normal force turning with its contact (F_n / distance,
+// a fraction overlap / radius of k_n) and gravity, which has none.
+//
+// The reduction: the 24 stiffest eigenvectors of K~ and the 8 most damped of C~
+// (src/base/symmetric_eigen.h), orthonormalised, and K~ and C~ projected on them (Rayleigh-Ritz).
+// A scene with fewer coordinates keeps all of them: its modes are exact, the dashpots' coupling
+// of the modes included.
+#pragma once
+#include <Eigen/Dense>
+#include <array>
+#include <string>
+#include <vector>
+
+#include "src/dem/dem_system.h"
+
+namespace kiln {
+
+// A spring's relative displacement B: up to seven (coordinate, coefficient) terms.
+struct SpringRow {
+  int at[7];
+  double by[7];
+  int size = 0;
+  void add(int coordinate, double coefficient) {
+    if (coordinate < 0 || coefficient == 0) return;
+    at[size] = coordinate;
+    by[size] = coefficient;
+    ++size;
+  }
+};
+
+struct LinearisedMechanics {
+  Eigen::MatrixXd k, c;      // reduced (r x r)
+  Eigen::MatrixXd basis;     // n x r, orthonormal columns in the mass-scaled coordinates
+  double omega_max = 0;      // the stiffest mode's frequency, sqrt of K~'s largest eigenvalue (rad/s)
+  int coordinates = 0;       // n
+  // For naming a mode: the contacts and their rows (normal, tangential, rolling), per wall body
+  // its coordinate, and per coordinate 1/sqrt(mass) (1/sqrt(kg), or 1/sqrt(kg m^2) for an angle).
+  std::vector<ContactSprings> contacts;
+  std::vector<std::array<SpringRow, 3>> rows;
+  std::vector<int> body_at;
+  std::vector<double> inv_sqrt_mass;
+};
+
+LinearisedMechanics linearise_mechanics(const DemSystem& system, double t, const double* y);
+
+// What a mode is and where it lives: its kind, the one that holds most of its spring energy
+// ("normal", "tangential-rotational", "rolling"), or "wall body" when wall bodies carry most of
+// its kinetic energy; and the contact that holds most of that energy ("particles 3 and 7",
+// "particle 0 on wall floor") or the wall ("wall lid").
+struct ModeDescription {
+  std::string kind, where;
+};
+ModeDescription describe_mode(const LinearisedMechanics& m, const Eigen::VectorXcd& reduced_shape, const Scene& scene);
+
+}  // namespace kiln

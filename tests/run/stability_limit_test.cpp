@@ -1,0 +1,209 @@
+// The stability limit kiln prints is the chosen integrator's, on the modes the scene has
+// (src/run/stability.h, integrators/stability_region.h): each method's region from its own
+// definition, each scene's modes from its linearised contacts, and what `kiln sweep` measures
+// beside it. And no check fires on a healthy run (src/run/stability_guard.h).
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <complex>
+#include <fstream>
+
+#include "integrators/stability_region.h"
+#include "src/base/error.h"
+#include "src/run/simulation.h"
+#include "src/run/stability.h"
+#include "src/scene/scene_yaml.h"
+#include "src/studies/study_sweep.h"
+#include "tests/support.h"
+
+using namespace kiln;
+
+namespace {
+
+// The handed case rolling_incline_rest: a copper disc at rest on a 2 degree slope with friction 0.5
+// and constant rolling friction 0.05, a linear contact of stiffness 6000 N/m, e = 0.5.
+const std::string slope_disc = R"(name: slope_disc
+mass_model: sphere
+gravity: [0.342364, -9.804024]
+materials:
+  copper: {density: 8900, stiffness: 6000, restitution: 0.5, friction: 0.5, rolling_friction: 0.05}
+  plate: {stiffness: 6000, restitution: 0.5, friction: 0.5, rolling_friction: 0.05}
+particles:
+  - {material: copper, radius: 0.002, at: [[0.0, 0.0019995]]}
+walls:
+  - {name: floor, material: plate, segment: [[-0.05, 0.0], [0.1, 0.0]]}
+allow_overlap: true
+integrator: velocity-verlet
+dt: 1.0e-6
+t_end: 0.3
+output_interval: 1.0e-3
+)";
+
+// One disc falling with nothing to meet (a field report's scene).
+const std::string lone_fall = R"(name: lone_fall
+materials:
+  steel: {density: 7800, stiffness: 1.0e5, restitution: 0.5, friction: 0.3}
+particles:
+  - {material: steel, radius: 0.01, at: [[0.0, 0.0]]}
+integrator: velocity-verlet
+dt: 1.0e-3
+t_end: 1.0
+output_interval: 0.01
+)";
+
+std::string written(const std::string& text, const std::string& name) {
+  const std::filesystem::path dir = testing::fresh_dir("stability_limit");
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / name).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+StabilityEstimate slope_estimate(const std::string& integrator, const std::vector<std::string>& sets = {}) {
+  return estimate_stability(parse_scene(slope_disc, "slope_disc.yaml", sets), integrator);
+}
+
+}  // namespace
+
+TEST_CASE("a table's stability interval follows from its Butcher coefficients: Heun 0 and 2, RK3 sqrt 3 and 2.5127",
+          "[stability]") {
+  // Any s-stage method of order s (s <= 4) has R(z) = sum z^k / k!: Heun-Euler's 1 + z + z^2/2 never
+  // reaches the imaginary axis (|R(iy)|^2 = 1 + y^4/4) and meets -2 on the real one; Bogacki and
+  // Shampine's third-order solution (its fourth stage has b = 0) is RK3's, sqrt 3 and 2.5127
+  // (Hairer and Wanner II, table IV.2.1).
+  const StabilityIntervals heun = stability_intervals(integrator_info("erk2"));
+  CHECK(heun.imaginary == Approx(0).margin(2e-3));  // |R| within 1e-9 of 1 is on the circle: y < 0.0017
+  CHECK(heun.negative_real == Approx(2).epsilon(1e-6));
+  const StabilityIntervals rk3 = stability_intervals(integrator_info("erk3"));
+  CHECK(rk3.imaginary == Approx(std::sqrt(3.0)).epsilon(1e-5));
+  CHECK(rk3.negative_real == Approx(2.5127453266).epsilon(1e-5));
+  // A fourth-order table agrees with exp(z) to z^4 (its fifth stage only adds c z^5).
+  const StabilityFunction r(integrator_info("erk4").erk_table);
+  const std::complex<double> z(-0.01, 0.02);
+  const std::complex<double> taylor = 1.0 + z + z * z / 2.0 + z * z * z / 6.0 + z * z * z * z / 24.0;
+  CHECK(std::abs(r(z) - taylor) < 1e-9);
+  // The Verlet schemes are the central difference on an undamped spring: stable to omega dt = 2.
+  for (const std::string& name : testing::verlet_family()) {
+    INFO(name);
+    CHECK(stability_intervals(integrator_info(name)).imaginary == Approx(2).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("a stiff undamped spring is stable to exactly 2/omega under velocity Verlet", "[stability]") {
+  // k = 2.0e7 1/s^2, a disc's contact with the floor. The step map's columns mix 1e-12 and 2e7;
+  // unbalanced, its eigenvalues came out 1e-5 off the unit circle and the limit printed was
+  // 2.43e-6 s instead of 4.46e-4 s (T1 refused at its own dt).
+  Eigen::MatrixXd k(1, 1), c = Eigen::MatrixXd::Zero(1, 1);
+  k << 2.01179e7;
+  for (const std::string& name : testing::verlet_family()) {
+    INFO(name);
+    CHECK(mechanical_step_limit(integrator_info(name), k, c).dt == Approx(2 / std::sqrt(k(0, 0))).epsilon(1e-6));
+  }
+}
+
+TEST_CASE("the slope disc's limit is each integrator's own on its tangential-rotational and normal modes",
+          "[stability]") {
+  // The figures kiln sweep measures (scripts/stability_table.sh): erk4 unstable from 5.832e-4 s,
+  // erk2 from 3.205e-4 s, erk3 from 5.336e-4 s. Before, every integrator was told 3.60e-4 s, the
+  // central-difference bound of the normal spring.
+  const StabilityEstimate vv = slope_estimate("velocity-verlet");
+  CHECK(vv.dt_limit == Approx(2.5534e-4).epsilon(1e-3));
+  CHECK(vv.limit.mode == "tangential-rotational");
+  CHECK(vv.limit.where == "particle 0 on wall floor");
+  const StabilityEstimate rk4 = slope_estimate("erk4");
+  CHECK(rk4.dt_limit == Approx(5.834e-4).epsilon(1e-3));
+  CHECK(rk4.limit.mode == "tangential-rotational");
+  CHECK(slope_estimate("erk2").dt_limit == Approx(3.205e-4).epsilon(1e-3));
+  CHECK(slope_estimate("erk2").limit.mode == "normal");
+  CHECK(slope_estimate("erk3").dt_limit == Approx(5.336e-4).epsilon(1e-3));
+  // An IMEX pair's explicit table takes the contacts.
+  CHECK(slope_estimate("imex4").dt_limit == Approx(8.223e-4).epsilon(1e-3));
+  // Without a tangential dashpot the tangential-rotational mode no longer binds velocity Verlet.
+  const StabilityEstimate undamped =
+      slope_estimate("velocity-verlet", {"contacts=[{between: [copper, plate], tangential_damping_ratio: 0}]"});
+  CHECK(undamped.dt_limit > 1.3 * vv.dt_limit);
+}
+
+TEST_CASE("velocity Verlet beyond the slope disc's tangential limit is stopped when friction gives energy back",
+          "[stability][checks]") {
+  // At 2.6e-4 s (1.02 of the limit) the tangential-rotational mode grows 7.5 % a step until the
+  // contact slips: the disc climbs the slope, friction's ledger entry goes negative and balances
+  // the energy check, which let it run to the end before.
+  const Scene scene = parse_scene(slope_disc, "slope_disc.yaml", {"dt=2.6e-4"});
+  try {
+    run_scene(scene, {"", true});
+    FAIL("the run went to the end");
+  } catch (const InstabilityError& e) {
+    const std::string m = e.what();
+    CHECK(m.find("dissipation went negative") != std::string::npos);
+    CHECK(m.find("tangential-rotational mode") != std::string::npos);
+  }
+  // Below the limit the disc stays at rest and no check fires.
+  const auto healthy = run_scene(parse_scene(slope_disc, "slope_disc.yaml", {"dt=2.5e-4"}), {"", true});
+  CHECK(healthy["t_end"].get<double>() == Approx(0.3));
+  CHECK(healthy["energy"]["dissipated_friction"].get<double>() >= 0);
+}
+
+TEST_CASE("a disc falling with nothing to meet has no step limit and runs to the end at any step", "[stability][checks]") {
+  // A field report: refused at 1e-3 s "can pass through a wall or another disc", and at 9.8e-4 s
+  // stopped as unstable at t = 0.41 s because it keeps speeding up.
+  const Scene scene = parse_scene(lone_fall, "lone_fall.yaml");
+  const StabilityEstimate est = estimate_stability(scene);
+  CHECK(std::isinf(est.dt_limit));
+  const DtVerdict verdict = judge_dt(est, scene.dt, scene);
+  CHECK_FALSE(verdict.unstable);
+  CHECK(verdict.warnings.empty());
+  for (const char* integrator : {"velocity-verlet", "erk4"}) {
+    INFO(integrator);
+    const auto s = run_scene(parse_scene(lone_fall, "lone_fall.yaml", {std::string("integrator=") + integrator}),
+                             {"", true});
+    CHECK(s["t_end"].get<double>() == Approx(1.0));
+    CHECK_FALSE(s["stopped_early"].get<bool>());
+  }
+}
+
+TEST_CASE("erk4 on T1 moved to y = 1e5 m keeps its energy within the round-off allowance", "[stability][checks]") {
+  // Positions near 1e5 m round to 1.5e-11 m: the allowance counts the integrator's five stages,
+  // each rounding the position (it counted one and missed by 0.8 %).
+  std::string text = testing::case_text("t1_free_fall_damped.yaml");
+  text = testing::replaced(text, "at: [[0.025, 0.03]]", "at: [[0.025, 100000.03]]");
+  text = testing::replaced(text, "box: [0, 0, 0.05, 0.0375]", "box: [0, 100000, 0.05, 100000.0375]");
+  const auto s = run_scene(parse_scene(text, "t1_far.yaml", {"integrator=erk4", "dt=1e-5"}), {"", true});
+  CHECK(s["t_end"].get<double>() == Approx(0.3));
+  CHECK(s["checks"]["energy_balance"]["worst_relative_error"].get<double>() < 0.25);
+}
+
+TEST_CASE("kiln sweep measures the slope disc's and F1's boundaries within 10 % of the printed limits",
+          "[stability][study][long]") {
+  struct Row {
+    std::string scene, integrator;
+    double t_end;
+  };
+  const std::string slope = written(slope_disc, "slope_disc.yaml");
+  for (const Row& row : {Row{slope, "erk4", 0.3}, Row{slope, "erk2", 0.3}, Row{slope, "imex4", 0.3},
+                         Row{testing::case_path("t1_free_fall_damped.yaml"), "erk4", 0.3},
+                         Row{testing::case_path("f1_chain_slab.yaml"), "erk4", 0},
+                         Row{testing::case_path("f1_chain_slab.yaml"), "velocity-verlet", 0}}) {
+    INFO(row.scene << " under " << row.integrator);
+    SweepOptions o;
+    o.scene = row.scene;
+    o.integrator = row.integrator;
+    o.sets = {"integrator=" + row.integrator};
+    const Scene scene = load_scene(row.scene, o.sets);
+    const StabilityEstimate est = estimate_stability(scene);
+    const double limit = scene.frozen ? est.conduction_dt_limit : est.dt_limit;
+    o.dt_min = 0.5 * limit;
+    o.dt_max = 2 * limit;
+    o.points = 6;
+    o.t_end = row.t_end;
+    o.quiet = true;
+    const auto s = run_sweep_study(o);
+    REQUIRE(s["largest_stable_dt"].is_number());
+    REQUIRE(s["smallest_unstable_dt"].is_number());
+    const double measured =
+        std::sqrt(s["largest_stable_dt"].get<double>() * s["smallest_unstable_dt"].get<double>());
+    CHECK(measured / limit > 0.9);
+    CHECK(measured / limit < 1.1);
+  }
+  std::filesystem::remove_all(std::filesystem::path(slope).parent_path());
+}
