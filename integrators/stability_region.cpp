@@ -37,7 +37,7 @@ std::complex<double> StabilityFunction::operator()(std::complex<double> z) const
 }
 
 double reach_along(const StabilityFunction& r, std::complex<double> direction) {
-  auto stable = [&](double s) { return std::abs(r(s * direction)) <= 1 + 1e-12; };
+  auto stable = [&](double s) { return std::abs(r(s * direction)) <= 1 + growth_per_step; };
   constexpr double step = 0.01, farthest = 50;
   double lo = 0, hi = 0;
   for (double s = step; s <= farthest; s += step) {
@@ -163,7 +163,7 @@ StepLimit verlet_limit(const IntegratorInfo& info, const Eigen::MatrixXd& k, con
   if (!(rate > 0)) return out;
   LinearModes modes(k, c);
   // A free body's translation is a Jordan block at 1 whose computed eigenvalues split by the
-  // square root of the round-off: 1e-7 stands well above that and far below a real growth.
+  // square root of the round-off (1e-8), below growth_per_step.
   auto radius = [&](double h, Eigen::VectorXcd* shape) {
     Eigen::VectorXd d;
     const Eigen::EigenSolver<Eigen::MatrixXd> eig(balanced(amplification(info, modes, h), d), shape != nullptr);
@@ -175,7 +175,7 @@ StepLimit verlet_limit(const IntegratorInfo& info, const Eigen::MatrixXd& k, con
     }
     return rho;
   };
-  auto stable = [&](double h) { return radius(h, nullptr) <= 1 + 1e-7; };
+  auto stable = [&](double h) { return radius(h, nullptr) <= 1 + growth_per_step; };
   // The scan starts at dt rate = 0.1 (60 steps a period): a limit below it is still found, by the
   // bisection from 0. Each probe is an eigenvalue solve of the step map, the cost of the estimate.
   double lo = 0, hi = 0;

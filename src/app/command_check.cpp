@@ -38,9 +38,12 @@ class CheckCommand final : public Command {
     if (scene.frozen) {
       std::printf("  mechanics frozen: no mechanical time step\n");
     } else {
-      if (std::isfinite(est.contact_duration))
+      if (std::isfinite(est.contact_duration) && scene.dt <= est.contact_duration)
         std::printf("  shortest contact duration  %.4g s (%s); dt is 1/%.1f of it\n", est.contact_duration,
                     est.shortest_pair.c_str(), est.contact_duration / scene.dt);
+      else if (std::isfinite(est.contact_duration))  // "1/0.5 of it" read as a fraction
+        std::printf("  shortest contact duration  %.4g s (%s); dt is %.3g times it\n", est.contact_duration,
+                    est.shortest_pair.c_str(), scene.dt / est.contact_duration);
       const MechanicalLimit& l = est.limit;
       if (!std::isfinite(est.contact_duration))
         std::printf("  stability limit of dt      none: no contact can form (%s)\n",
@@ -59,13 +62,19 @@ class CheckCommand final : public Command {
                     100 * scene.dt / est.rayleigh);
       else
         std::printf("  Rayleigh time step         n/a (no youngs_modulus given)\n");
-      if (std::isfinite(est.recommended_dt))
+      if (std::isfinite(est.recommended_dt) && est.recommended_dt < est.contact_duration / 50)
+        std::printf("  recommended dt             %.4g s (the stability limit, below contact duration / 50 = %.4g s)\n",
+                    est.recommended_dt, est.contact_duration / 50);
+      else if (std::isfinite(est.recommended_dt))
         std::printf("  recommended dt             %.4g s (contact duration / 50; %.3g of the limit)\n", est.recommended_dt,
                     est.recommended_dt / est.dt_limit);
     }
     if (scene.thermal) {
-      std::printf("  explicit conduction limit  %.4g s (2 / lambda_max, contact network at t = 0)",
-                  est.thermal_dt_limit_network);
+      if (std::isfinite(est.thermal_dt_limit_network))
+        std::printf("  explicit conduction limit  %.4g s (2 / lambda_max, contact network at t = 0)",
+                    est.thermal_dt_limit_network);
+      else
+        std::printf("  explicit conduction limit  none at t = 0 (no conducting contact)");
       if (!scene.frozen) std::printf(", %.4g s (dense packing at 1 %% overlap)", est.thermal_dt_limit);
       const double reach = real_stability_of(scene.integrator);
       if (std::isinf(reach))

@@ -346,6 +346,12 @@ void judge_mechanics(const StabilityEstimate& est, double dt, const Scene& scene
     s << "dt x impact speed = " << dt << " s x " << approach << " m/s = " << dt * approach
       << " m is more than the smallest radius (" << r_min << " m): a disc can pass through a wall or another disc "
       << "between two steps; lower dt below " << r_min / approach << " s";
+  } else if (l.dt > 0 && dt >= l.dt && scene.control.rtol > 0) {
+    // An adaptive run's dt is its first trial step: the error controller shortens it.
+    std::ostringstream w;
+    w << "the first step dt = " << dt << " s is beyond " << est.integrator << "'s stability limit " << l.dt
+      << " s on " << l.state << " (its " << l.mode << " mode, " << l.where << "): the step controller will shorten it";
+    v.warnings.push_back(w.str());
   } else if (l.dt > 0 && dt >= l.dt) {
     s << "dt = " << dt << " s is beyond " << est.integrator << "'s stability limit " << l.dt << " s on " << l.state
       << " (its " << l.mode << " mode, " << l.where << "): the run will blow up";
