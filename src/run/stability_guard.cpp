@@ -243,7 +243,9 @@ void StabilityGuard::fail(double t, const std::string& what) const {
     s << "explicit conduction of this network is stable below dt = " << heat_limit_
       << " s with this integrator (IMEX integrators, imex1 and imex3 to imex5, have no such limit)";
   else
-    s << "the stability estimate recommends dt <= " << estimate_.recommended_dt << " s (contact duration "
+    s << "the stability estimate recommends dt <= " << estimate_.recommended_dt
+      << (estimate_.recommended_dt < estimate_.contact_duration / 50 ? " s (the stability limit; contact duration "
+                                                                      : " s (contact duration ")
       << estimate_.contact_duration << " s / 50, " << estimate_.shortest_pair << "; " << describe_limit(estimate_)
       << (std::isfinite(estimate_.thermal_dt_limit)
               ? "; conduction limit " + std::to_string(estimate_.thermal_dt_limit) + " s)"

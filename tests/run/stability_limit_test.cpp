@@ -146,6 +146,20 @@ TEST_CASE("velocity Verlet beyond the slope disc's tangential limit is stopped w
   CHECK(healthy["energy"]["dissipated_friction"].get<double>() >= 0);
 }
 
+TEST_CASE("the guard's recommended dt says when it is the stability limit rather than contact duration / 50",
+          "[stability][checks]") {
+  // erk2 on the undamped harmonic pair: limit 1.19e-5 s, below t_c / 50 = 1.40e-5 s. The message
+  // labelled the limit "contact duration 0.0007 s / 50".
+  try {
+    run_scene(load_scene(testing::case_path("harmonic_contact_pair.yaml"), {"integrator=erk2", "dt=5e-4"}), {"", true});
+    FAIL("erk2 at 40 times its limit ran to the end");
+  } catch (const InstabilityError& e) {
+    const std::string m = e.what();
+    CHECK(m.find("recommends dt <= 1.18") != std::string::npos);
+    CHECK(m.find("(the stability limit; contact duration") != std::string::npos);
+  }
+}
+
 TEST_CASE("an adaptive run's first step beyond the limit is warned of, not refused", "[stability]") {
   // erk5 with rtol 1e-6 from dt = 1e-3 s on T1 (limit 2.2e-4 s): the controller takes 691 steps and
   // keeps the energy to 1.7e-9 J; it was refused as "the run will blow up".
