@@ -192,8 +192,9 @@ void StabilityGuard::energy(double t, const EnergyLedger& now) {
   // Dashpots and friction only take energy out of the motion. A spring mode made unstable by the
   // step can still balance the ledger, through its cap: a tangential spring that grows each step
   // slides at the Coulomb limit, where the booked "dissipation" is the work the slip does, now
-  // pumping the disc uphill (a disc at rest on a slope under velocity Verlet just beyond its
-  // tangential-rotational limit books -2.8 times the energy it started with). A healthy run's
+  // pumping the disc uphill (a disc at rest on a slope under velocity Verlet at 1.02 times its
+  // tangential-rotational limit books -7.6e-10 J of friction by t = 0.09 s, as much as the 7.5e-10 J
+  // it started with). A healthy run's
   // dissipation dips below zero by its truncation error at most.
   const double dissipated = now.dissipated_damping - initial_.dissipated_damping + now.dissipated_friction -
                             initial_.dissipated_friction;
