@@ -57,6 +57,10 @@ class CheckCommand final : public Command {
                     "                             (%d coordinates, %d contacts; stiffest mode %.4g rad/s)\n",
                     l.dt, est.integrator.c_str(), scene.dt / l.dt, l.mode.c_str(), l.where.c_str(), l.state.c_str(),
                     l.coordinates, l.contacts, l.omega_max);
+      if (l.blow_up_dt > l.dt && std::isfinite(l.blow_up_dt))
+        std::printf("  blow-up limit of dt        %.4g s (the normal and wall-body modes): between the two, the %s mode grows\n"
+                    "                             only to its %s cap, and sticking contacts creep or chatter there\n",
+                    l.blow_up_dt, l.mode.c_str(), l.mode == "rolling" ? "rolling" : "Coulomb");
       if (std::isfinite(est.rayleigh))
         std::printf("  Rayleigh time step         %.4g s (smallest particle); dt is %.1f %% of it\n", est.rayleigh,
                     100 * scene.dt / est.rayleigh);

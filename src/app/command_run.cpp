@@ -149,7 +149,9 @@ class RunCommand final : public Command {
       if (out.empty()) out = "out/" + scene.name;
     }
     if (!r.movie.empty()) check_movie_field(scene, r.movie, "--movie");  // before the run, not after
-    const DtVerdict verdict = judge_dt(estimate_stability(scene), scene.dt, scene);
+    const StabilityEstimate estimate = estimate_stability(scene);
+    options.estimate = &estimate;
+    const DtVerdict verdict = judge_dt(estimate, scene.dt, scene);
     for (const std::string& w : verdict.warnings)
       std::fprintf(stderr, "%s: %s\n", verdict.unstable && !r.force ? "error" : "warning", w.c_str());
     if (verdict.unstable && !r.force) return exit_refused;

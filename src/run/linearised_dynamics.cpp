@@ -37,10 +37,12 @@ Eigen::MatrixXd orthonormal(const Eigen::MatrixXd& columns) {
 
 }  // namespace
 
-LinearisedMechanics linearise_mechanics(const DemSystem& sys, double t, const double* y) {
+LinearisedMechanics linearise_mechanics(const DemSystem& sys, double t, const double* y, Springs springs) {
   LinearisedMechanics m;
   const Scene& scene = sys.scene();
   m.contacts = sys.contact_springs(t, y);
+  if (springs == Springs::uncapped)
+    for (ContactSprings& s : m.contacts) s.kt = s.ct = s.kr = s.cr = 0;
   const bool rotates = sys.rotates();
   std::vector<int> particle_at;  // each particle's first coordinate, -1 when it has none
   int n = 0;

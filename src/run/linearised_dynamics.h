@@ -55,7 +55,12 @@ struct LinearisedMechanics {
   std::vector<double> inv_sqrt_mass;
 };
 
-LinearisedMechanics linearise_mechanics(const DemSystem& system, double t, const double* y);
+// Which springs enter: all, or only those no cap bounds (normal springs and dashpots, wall
+// bodies): a tangential or rolling mode made unstable by the step grows only until its spring
+// reaches the Coulomb or rolling cap, while these grow without bound.
+enum class Springs { all, uncapped };
+LinearisedMechanics linearise_mechanics(const DemSystem& system, double t, const double* y,
+                                        Springs springs = Springs::all);
 
 // What a mode is and where it lives: its kind, the one that holds most of its spring energy
 // ("normal", "tangential-rotational", "rolling"), or "wall body" when wall bodies carry most of

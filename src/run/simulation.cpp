@@ -232,7 +232,7 @@ void SceneRun::start_fresh() {
     integrator_->start(system_, 0.0, y_.data(), scene_.dt);
   }
   initial_ = system_.energy(0, y_.data());
-  guard_ = std::make_unique<StabilityGuard>(scene_, system_, initial_);
+  guard_ = std::make_unique<StabilityGuard>(scene_, system_, initial_, options_.estimate);
   if (!options_.out_dir.empty()) {
     files_ = std::make_unique<RunOutputs>(options_.out_dir, system_, run_id_);
     files_->frame(0, y_.data());
@@ -353,7 +353,7 @@ SceneRun::Ended SceneRun::at_frame(bool moving, bool at_end) {
     const StageTimer timer(profile_, Stage::checks);
     guard_->finite(t_, y_.data(), system_.layout().size());
     now = system_.energy(t_, y_.data());
-    guard_->energy(t_, now);
+    guard_->energy(t_, y_.data(), now);
   }
   history_time_.push_back(t_);
   history_error_.push_back(balance_error(initial_, now));
@@ -539,7 +539,7 @@ void SceneRun::state(SnapshotFields& f) {
 void SceneRun::parts(SnapshotFields& f) {
   SnapshotFields system = f.within("system."), checks = f.within("checks.");
   system_.state(system);
-  if (!f.saving()) guard_ = std::make_unique<StabilityGuard>(scene_, system_, initial_);
+  if (!f.saving()) guard_ = std::make_unique<StabilityGuard>(scene_, system_, initial_, options_.estimate);
   guard_->state(checks);
   for (size_t k = 0; k < observers_.size(); ++k) {
     SnapshotFields observer = f.within("observer." + std::to_string(k) + ".");
@@ -617,6 +617,9 @@ nlohmann::json SceneRun::summary(Ended ended) {
   summary["energy"]["history"] = {{"time", history_time_}, {"balance_error", history_error_}};
   const StabilityEstimate& est = guard_->estimate();
   summary["stability"] = estimate_json(est);
+  if (options_.limit_at_end && stage_ == mechanics_stage && !est.integrator.empty())
+    if (const auto end = limit_at(system_, t_, y_.data(), system_.layout().size(), est.integrator))
+      summary["stability"]["at_end"] = limit_json(*end);
   summary["checks"] = guard_->figures();
   summary["profile"] = profile().json(total_steps_);
   summary["kiln_version"] = KILN_VERSION;

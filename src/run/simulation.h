@@ -12,6 +12,8 @@ namespace kiln {
 
 // The final state's fields, for studies: x of every particle then y, the same for velocities,
 // and temperatures (empty when the scene is not thermal).
+struct StabilityEstimate;  // src/run/stability.h
+
 struct FinalFields {
   std::vector<double> position, velocity, temperature;
 };
@@ -38,6 +40,12 @@ struct RunOptions {
   // Benchmarks: from this step of the mechanical stage on (>= 0), its steps, right-hand sides and
   // wall seconds are summary.json's "timed" (checks, frames and ledger included, as in any run).
   long time_from_step = -1;
+  // summary.json's stability.at_end: the integrator's limit on the contacts at the run's end (a
+  // settled pile's network, which the start may not have; `kiln sweep` asks it of its finest run).
+  bool limit_at_end = false;
+  // The scene's estimate when the caller has it already (`kiln run` judged dt with it): not
+  // computed again for the guard (on 10,000 pressed discs it takes seconds).
+  const StabilityEstimate* estimate = nullptr;
 };
 
 // Runs the scene to its end (or its stop condition) and returns the summary (also written to

@@ -111,8 +111,9 @@ void thermal_estimate(const Scene& scene, const std::vector<double>& rmin, const
 
 MechanicalLimit mechanical_limit(const DemSystem& system, double t, const double* y, const std::string& integrator,
                                  const std::string& state) {
+  const IntegratorInfo& info = integrator_info(integrator);
   const LinearisedMechanics m = linearise_mechanics(system, t, y);
-  const StepLimit step = mechanical_step_limit(integrator_info(integrator), m.k, m.c);
+  const StepLimit step = mechanical_step_limit(info, m.k, m.c);
   MechanicalLimit out;
   out.dt = step.dt;
   out.state = state;
@@ -122,7 +123,36 @@ MechanicalLimit mechanical_limit(const DemSystem& system, double t, const double
   const ModeDescription d = describe_mode(m, step.shape, system.scene());
   out.mode = d.kind;
   out.where = d.where;
+  out.blow_up_dt = out.dt;
+  if (d.kind == "tangential-rotational" || d.kind == "rolling") {
+    const LinearisedMechanics uncapped = linearise_mechanics(system, t, y, Springs::uncapped);
+    out.blow_up_dt = std::max(out.dt, mechanical_step_limit(info, uncapped.k, uncapped.c).dt);
+  }
   return out;
+}
+
+StabilityEstimate with_state(StabilityEstimate est, const MechanicalLimit& at_state) {
+  const double blow_up = std::min(est.limit.blow_up_dt, at_state.blow_up_dt);
+  if (at_state.dt < est.dt_limit) {
+    est.limit = at_state;
+    est.dt_limit = at_state.dt;
+    est.recommended_dt = std::min(est.contact_duration / 50, est.dt_limit);
+  }
+  est.limit.blow_up_dt = std::max(est.dt_limit, blow_up);
+  return est;
+}
+
+std::optional<MechanicalLimit> limit_at(const DemSystem& system, double t, const double* y, int size,
+                                        const std::string& integrator, const std::string& what) {
+  for (int k = 0; k < size; ++k)
+    if (!std::isfinite(y[k])) return std::nullopt;
+  try {
+    std::ostringstream state;
+    state << "the contacts at t = " << t << " s" << what;
+    return mechanical_limit(system, t, y, integrator, state.str());
+  } catch (const std::exception&) {  // an eigensolver that does not converge on a state blown apart
+    return std::nullopt;
+  }
 }
 
 namespace {
@@ -352,6 +382,11 @@ void judge_mechanics(const StabilityEstimate& est, double dt, const Scene& scene
     w << "the first step dt = " << dt << " s is beyond " << est.integrator << "'s stability limit " << l.dt
       << " s on " << l.state << " (its " << l.mode << " mode, " << l.where << "): the step controller will shorten it";
     v.warnings.push_back(w.str());
+  } else if (l.dt > 0 && dt >= l.dt && dt < l.blow_up_dt) {
+    s << "dt = " << dt << " s is beyond " << est.integrator << "'s stability limit " << l.dt << " s on " << l.state
+      << " (its " << l.mode << " mode, " << l.where << "): that mode grows until its spring reaches its "
+      << (l.mode == "rolling" ? "rolling" : "Coulomb") << " cap, so sticking contacts creep or chatter instead of "
+      << "sticking (the run blows up beyond " << l.blow_up_dt << " s, the normal modes' limit)";
   } else if (l.dt > 0 && dt >= l.dt) {
     s << "dt = " << dt << " s is beyond " << est.integrator << "'s stability limit " << l.dt << " s on " << l.state
       << " (its " << l.mode << " mode, " << l.where << "): the run will blow up";
@@ -400,20 +435,36 @@ std::string describe_limit(const StabilityEstimate& est) {
   return s.str();
 }
 
+namespace {
+nlohmann::json number(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); }
+}  // namespace
+
+nlohmann::json limit_json(const MechanicalLimit& l) {
+  return {{"dt_limit", number(l.dt)},      {"binding_mode", l.mode},      {"binding_where", l.where},
+          {"state", l.state},              {"omega_max", l.omega_max},    {"coordinates", l.coordinates},
+          {"contacts", l.contacts},        {"blow_up_dt_limit", number(l.blow_up_dt)}};
+}
+
+MechanicalLimit limit_of_json(const nlohmann::json& j) {
+  MechanicalLimit l;
+  l.dt = j["dt_limit"].is_null() ? INFINITY : j["dt_limit"].get<double>();
+  l.mode = j["binding_mode"].get<std::string>();
+  l.where = j["binding_where"].get<std::string>();
+  l.state = j["state"].get<std::string>();
+  l.omega_max = j["omega_max"].get<double>();
+  l.coordinates = j["coordinates"].get<int>();
+  l.contacts = j["contacts"].get<int>();
+  l.blow_up_dt = j["blow_up_dt_limit"].is_null() ? INFINITY : j["blow_up_dt_limit"].get<double>();
+  return l;
+}
+
 nlohmann::json estimate_json(const StabilityEstimate& est) {
-  auto number = [](double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(nullptr); };
-  nlohmann::json j = {{"integrator", est.integrator},
-                      {"dt_limit", number(est.dt_limit)},
-                      {"binding_mode", est.limit.mode},
-                      {"binding_where", est.limit.where},
-                      {"state", est.limit.state},
-                      {"omega_max", est.limit.omega_max},
-                      {"coordinates", est.limit.coordinates},
-                      {"contacts", est.limit.contacts},
-                      {"recommended_dt", number(est.recommended_dt)},
-                      {"contact_duration", number(est.contact_duration)},
-                      {"shortest_pair", est.shortest_pair},
-                      {"rayleigh_dt", number(est.rayleigh)}};
+  nlohmann::json j = limit_json(est.limit);
+  j["integrator"] = est.integrator;
+  j["recommended_dt"] = number(est.recommended_dt);
+  j["contact_duration"] = number(est.contact_duration);
+  j["shortest_pair"] = est.shortest_pair;
+  j["rayleigh_dt"] = number(est.rayleigh);
   if (std::isfinite(est.thermal_dt_limit_network) || std::isfinite(est.thermal_dt_limit)) {
     j["thermal_dt_limit"] = number(est.thermal_dt_limit);
     j["thermal_dt_limit_network"] = number(est.thermal_dt_limit_network);

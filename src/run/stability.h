@@ -26,6 +26,12 @@ struct MechanicalLimit {
   std::string where;       // "particles 3 and 7", "particle 0 on wall floor", "wall lid"
   std::string state;       // the state analysed: "the contacts at t = 0", "a lone copper-copper contact"
   double omega_max = 0;    // that state's stiffest undamped frequency (rad/s)
+  // When a tangential-rotational or rolling mode binds, the limit of the modes no cap bounds
+  // (normal, wall body; linearise_mechanics' Springs::uncapped), where the run blows up: between
+  // the two a sticking contact is not resolved, its mode grows to the Coulomb or rolling cap and
+  // the contact creeps or chatters there (a disc on a slope slides down it) with the energy
+  // balanced. Equal to dt otherwise.
+  double blow_up_dt = INFINITY;
   int coordinates = 0, contacts = 0;
 };
 
@@ -45,7 +51,7 @@ struct StabilityEstimate {
   std::string integrator;              // whose limit
   MechanicalLimit limit;
   double dt_limit = INFINITY;          // limit.dt (s)
-  double recommended_dt = INFINITY;    // contact_duration / 50, at most half the limit
+  double recommended_dt = INFINITY;    // contact_duration / 50, at most the limit
   double impact_speed = 0;             // highest impact speed for Hertz durations (m/s): two discs meet at
                                        // twice a disc's speed, a disc meets a wall at its own plus the wall's
   // Heat (thermal scenes): explicit stepping of conduction is stable below 2 / lambda_max, lambda_max
@@ -63,9 +69,23 @@ struct StabilityEstimate {
 // The estimate for `integrator` (empty: the scene's; a frozen scene's heat stage: freeze.integrator's).
 StabilityEstimate estimate_stability(const Scene& scene, const std::string& integrator = "");
 
+// The estimate with the limit on another state of the scene (a settled pile, a run's state when a
+// check fired: its contact network, which the start may not have) where that binds lower, and
+// the recommended dt clipped to it.
+StabilityEstimate with_state(StabilityEstimate estimate, const MechanicalLimit& at_state);
+// The integrator's limit on the contacts of `system` (its lists prepared near y) in state y at
+// time t, described as "the contacts at t = <t> s<what>"; nothing when y is not finite or the
+// linearisation fails (a state blown apart).
+std::optional<MechanicalLimit> limit_at(const DemSystem& system, double t, const double* y, int size,
+                                        const std::string& integrator, const std::string& what = "");
+
 // "erk4's limit 5.84e-4 s on the contacts at t = 0 (tangential-rotational mode, particle 0 on
 // wall floor)", or why there is none.
 std::string describe_limit(const StabilityEstimate& estimate);
+// A limit as JSON (dt_limit, binding_mode, binding_where, state, omega_max, coordinates,
+// contacts, blow_up_dt_limit), and back.
+nlohmann::json limit_json(const MechanicalLimit& limit);
+MechanicalLimit limit_of_json(const nlohmann::json& j);
 // The estimate as summary.json, `kiln check --json` and `kiln sweep` write it.
 nlohmann::json estimate_json(const StabilityEstimate& estimate);
 

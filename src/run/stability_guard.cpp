@@ -21,8 +21,9 @@ constexpr double blow_up_fraction = 0.25;
 
 }  // namespace
 
-StabilityGuard::StabilityGuard(const Scene& scene, const DemSystem& sys, const EnergyLedger& initial)
-    : scene_(scene), sys_(sys), initial_(initial), estimate_(estimate_stability(scene)),
+StabilityGuard::StabilityGuard(const Scene& scene, const DemSystem& sys, const EnergyLedger& initial,
+                               const StabilityEstimate* estimate)
+    : scene_(scene), sys_(sys), initial_(initial), estimate_(estimate ? *estimate : estimate_stability(scene)),
       largest_exchange_(exchanged(initial, initial)) {
   // Far from the origin a step's displacement is rounded to the positions' ulp: a disc 1e5 m up
   // does not move in its first 1 us step (g dt^2 / 2 = 4.9e-12 m is below half an ulp, 7.3e-12 m)
@@ -57,7 +58,7 @@ void StabilityGuard::every_step(double t, const double* y, double h) {
     std::ostringstream s;
     s << "overlap reached " << sys_.max_overlap_fraction() << " of a radius (limit " << scene_.max_overlap_fraction
       << ", checks.max_overlap_fraction)";
-    fail(t, s.str());
+    fail(t, y, s.str());
   }
   // (v h)^2 against r^2 per particle: no division or root in the loop, and no overflow of v^2. The
   // speed after the step stands for the step's: a particle accelerated past its radius in one
@@ -95,16 +96,16 @@ void StabilityGuard::every_step(double t, const double* y, double h) {
       << " m: it can pass through a wall or another particle between two evaluations; at this speed the step must "
          "stay below radius / speed = "
       << sys_.radius(fastest) / speed << " s";
-    fail(t, s.str());
+    fail(t, y, s.str());
   }
 }
 
 void StabilityGuard::finite(double t, const double* y, int size) {
   for (int k = 0; k < size; ++k)
-    if (!std::isfinite(y[k])) fail(t, "the state holds NaN or infinity (component " + std::to_string(k) + ")");
+    if (!std::isfinite(y[k])) fail(t, y, "the state holds NaN or infinity (component " + std::to_string(k) + ")");
   // The ledger too, between frames: a study writes one frame, at its end, which may fall at the
   // apex of a bounce; the largest exchange must have seen the bounce itself.
-  energy(t, sys_.energy(t, y));
+  energy(t, y, sys_.energy(t, y));
 }
 
 void StabilityGuard::temperatures(double t, const double* y) {
@@ -164,11 +165,11 @@ void StabilityGuard::temperatures(double t, const double* y) {
     else
       s << "at the run's last check";
     s << " (maximum principle of conduction)";
-    fail(t, s.str());
+    fail(t, y, s.str());
   }
 }
 
-void StabilityGuard::energy(double t, const EnergyLedger& now) {
+void StabilityGuard::energy(double t, const double* y, const EnergyLedger& now) {
   // The yardstick is the largest exchange so far, not this instant's: at the apex of an elastic
   // bounce the kinetic energy and the potential change are back to zero, and an error of 1e-6 of
   // the bounce read as a blow-up. Both signs count: a dashpot driven unstable books negative
@@ -180,7 +181,7 @@ void StabilityGuard::energy(double t, const EnergyLedger& now) {
     std::ostringstream s;
     s << "energy overflow: the ledger holds a non-finite energy (kinetic " << now.kinetic << " J, potential "
       << now.potential << " J, elastic " << now.elastic << " J)";
-    fail(t, s.str());
+    fail(t, y, s.str());
   }
   largest_exchange_ = std::max(largest_exchange_, exchanged(initial_, now));
   if (!(largest_exchange_ > 0)) return;
@@ -204,7 +205,7 @@ void StabilityGuard::energy(double t, const EnergyLedger& now) {
       << " J into the motion (damping " << now.dissipated_damping - initial_.dissipated_damping << " J, friction "
       << now.dissipated_friction - initial_.dissipated_friction << " J), more than " << blow_up_fraction
       << " of the largest energy exchanged so far (" << largest_exchange_ << " J)";
-    fail(t, s.str());
+    fail(t, y, s.str());
   }
   const double rounding = rounding_per_step_ * static_cast<double>(steps_);
   if (std::abs(error) > blow_up_fraction * largest_exchange_ + rounding) {
@@ -212,7 +213,7 @@ void StabilityGuard::energy(double t, const EnergyLedger& now) {
     s << "energy blow-up: the ledger is off by " << error << " J, more than " << blow_up_fraction
       << " of the largest energy exchanged so far (" << largest_exchange_ << " J) plus the positions' round-off ("
       << rounding << " J)";
-    fail(t, s.str());
+    fail(t, y, s.str());
   }
 }
 
@@ -235,22 +236,27 @@ nlohmann::json StabilityGuard::figures() const {
   return f;
 }
 
-void StabilityGuard::fail(double t, const std::string& what) const {
+void StabilityGuard::fail(double t, const double* y, const std::string& what) const {
   std::ostringstream s;
   s << "unstable run at t = " << t << " s: " << what << ". dt = " << dt_ << " s; ";
-  if (std::isinf(heat_limit_))
+  if (std::isinf(heat_limit_)) {
     s << "conduction is implicit here: no step limit applies (an inexact stage solve?)";
-  else if (!std::isnan(heat_limit_))
+  } else if (!std::isnan(heat_limit_)) {
     s << "explicit conduction of this network is stable below dt = " << heat_limit_
       << " s with this integrator (IMEX integrators, imex1 and imex3 to imex5, have no such limit)";
-  else
-    s << "the stability estimate recommends dt <= " << estimate_.recommended_dt
-      << (estimate_.recommended_dt < estimate_.contact_duration / 50 ? " s (the stability limit; contact duration "
-                                                                      : " s (contact duration ")
-      << estimate_.contact_duration << " s / 50, " << estimate_.shortest_pair << "; " << describe_limit(estimate_)
-      << (std::isfinite(estimate_.thermal_dt_limit)
-              ? "; conduction limit " + std::to_string(estimate_.thermal_dt_limit) + " s)"
-              : std::string(")"));
+  } else {
+    // The contacts now may bind below those at the start (a pile that formed): the limit on them
+    // joins the start's.
+    const std::optional<MechanicalLimit> now =
+        limit_at(sys_, t, y, sys_.layout().size(), estimate_.integrator);
+    const StabilityEstimate est = now ? with_state(estimate_, *now) : estimate_;
+    s << "the stability estimate recommends dt <= " << est.recommended_dt
+      << (est.recommended_dt < est.contact_duration / 50 ? " s (the stability limit; contact duration "
+                                                          : " s (contact duration ")
+      << est.contact_duration << " s / 50, " << est.shortest_pair << "; " << describe_limit(est)
+      << (std::isfinite(est.thermal_dt_limit) ? "; conduction limit " + std::to_string(est.thermal_dt_limit) + " s)"
+                                              : std::string(")"));
+  }
   throw InstabilityError(s.str());
 }
 

@@ -17,7 +17,9 @@ namespace kiln {
 
 class StabilityGuard {
  public:
-  StabilityGuard(const Scene& scene, const DemSystem& sys, const EnergyLedger& initial);
+  // `estimate`: the scene's (estimate_stability(scene)), computed here when not given.
+  StabilityGuard(const Scene& scene, const DemSystem& sys, const EnergyLedger& initial,
+                 const StabilityEstimate* estimate = nullptr);
   // After every mechanical step of length h ending in state y: the largest overlap against
   // checks.max_overlap_fraction, and the largest displacement in a step against the particle's
   // radius (a particle that moves more than its radius in one step can pass through a wall or
@@ -32,7 +34,7 @@ class StabilityGuard {
   void temperatures(double t, const double* y);
   // Energy blow-up: the ledger is off, either way, by more than a quarter of the largest energy
   // exchanged so far, beyond what rounding the positions to their ulp at every step accounts for.
-  void energy(double t, const EnergyLedger& now);
+  void energy(double t, const double* y, const EnergyLedger& now);
   const StabilityEstimate& estimate() const { return estimate_; }
   // What the checks measured over the run, for summary.json's "checks".
   nlohmann::json figures() const;
@@ -46,7 +48,9 @@ class StabilityGuard {
   }
 
  private:
-  [[noreturn]] void fail(double t, const std::string& what) const;
+  // Throws InstabilityError: the check, the time, the step, and the step recommended by the
+  // estimate at the start joined with the limit on the contacts of the state y now.
+  [[noreturn]] void fail(double t, const double* y, const std::string& what) const;
   const Scene& scene_;
   const DemSystem& sys_;
   EnergyLedger initial_;

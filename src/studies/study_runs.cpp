@@ -135,7 +135,10 @@ void run_one(const std::string& path, const std::vector<std::string>& base_sets,
     double best = INFINITY;
     for (int k = 0; k < runs; ++k) {
       FinalFields fields;
-      const nlohmann::json s = run_scene(scene, {"", true, &fields});
+      RunOptions options{"", true, &fields};
+      options.limit_at_end = run.limit_at_end;
+      const nlohmann::json s = run_scene(scene, options);
+      if (s["stability"].contains("at_end")) run.at_end = s["stability"]["at_end"];
       // A study of the heating stage counts that stage's cost alone (the settling is the same in
       // every run).
       const nlohmann::json& cost = heat_stage ? s["integrator_stats"]["heat_stage"] : s;
@@ -190,7 +193,8 @@ void share_results(std::vector<StudyRun>& runs, const std::vector<size_t>& mine)
   for (size_t k : mine) {
     const StudyRun& r = runs[k];
     block.push_back({{"run", k}, {"value", r.value}, {"rhs_evals", r.rhs_evals}, {"seconds", r.seconds},
-                     {"unstable", r.unstable}, {"failure", r.failure}});
+                     {"unstable", r.unstable}, {"failure", r.failure},
+                     {"at_end", r.at_end}});
   }
   const std::vector<std::uint8_t> bytes = nlohmann::json::to_cbor(block);
   std::vector<int> received(runs.size(), 0);
@@ -203,6 +207,7 @@ void share_results(std::vector<StudyRun>& runs, const std::vector<size_t>& mine)
       run.seconds = r["seconds"].get<double>();
       run.unstable = r["unstable"].get<bool>();
       run.failure = r["failure"].get<std::string>();
+      run.at_end = r["at_end"];
       ++received[k];
     }
   }

@@ -19,12 +19,14 @@ struct StudyRun {
   double dt;
   std::vector<std::string> sets;  // further overrides (rtol, ...)
   int repeats = 1;                // timed runs after one warm-up when > 1; the minimum is kept
+  bool limit_at_end = false;      // ask for the stability limit on the contacts at the run's end
   // Results.
   std::vector<double> value;  // the studied quantity at the end
   long rhs_evals = 0;
   double seconds = 0;         // wall time (the minimum over the repeats)
   bool unstable = false;      // stopped by a stability check
   std::string failure;        // why it failed, if it did
+  nlohmann::json at_end;      // that limit (src/run/stability.h limit_json), when asked and it ran to the end
 };
 
 // Runs scene (with `sets`) to t_end for every run, showing how many have finished on a terminal

@@ -1,5 +1,6 @@
 #include "src/studies/study_sweep.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "integrators/integrator.h"
@@ -32,6 +33,9 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   for (const std::string& q : quantities) {
     std::vector<StudyRun> runs;
     for (double dt : dts) runs.emplace_back(o.integrator, dt);
+    // The runs' end states: settled ones, whose contact network may bind below the start's (the
+    // finest run that reached its end is used).
+    for (StudyRun& r : runs) r.limit_at_end = per_quantity.empty() && !o.heat_stage;
     run_study(o.scene, o.sets, t_end, q, runs, o.threads, o.quiet, o.heat_stage);
     per_quantity.push_back(runs);
   }
@@ -51,8 +55,16 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
       (probe[0].unstable ? unstable : stable) = probe[0].dt;
     }
   }
-  // The prediction for the integrator swept (its mechanics: a heat-stage sweep varies freeze.dt).
-  const StabilityEstimate est = estimate_stability(base, o.heat_stage ? "" : o.integrator);
+  // The prediction for the integrator swept (its mechanics: a heat-stage sweep varies freeze.dt):
+  // the start's, joined with the limit on the finest run's end state.
+  StabilityEstimate est = estimate_stability(base, o.heat_stage ? "" : o.integrator);
+  const StabilityEstimate at_start = est;
+  const auto settled = std::find_if(first.begin(), first.end(), [](const StudyRun& r) { return r.at_end.is_object(); });
+  if (settled != first.end()) {
+    MechanicalLimit end = limit_of_json(settled->at_end);
+    end.state += format(" (the end of the run at dt = %.4g s)", settled->dt);
+    est = with_state(est, end);
+  }
 
   StudyReport report("sweep", {{"scene", base.name}});
   nlohmann::json& out = report.json();
@@ -64,6 +76,8 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   out["largest_stable_dt"] = stable > 0 ? nlohmann::json(stable) : nlohmann::json(nullptr);
   out["smallest_unstable_dt"] = unstable > 0 ? nlohmann::json(unstable) : nlohmann::json(nullptr);
   out["estimate"] = estimate_json(est);
+  out["estimate_at_start"] = estimate_json(at_start);
+  out["limit_at_end"] = settled != first.end() ? settled->at_end : nlohmann::json(nullptr);
   // The limit that binds: conduction's alone on a frozen scene, the smaller of the two on a
   // thermal scene that moves, the contacts' otherwise.
   // Conduction's limit is 2 / lambda_max times the integrator's reach on the negative real axis / 2
@@ -116,14 +130,26 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
                                       ? format("; recommended dt %.3g s, %.3g of the limit", est.recommended_dt,
                                                est.recommended_dt / limit)
                                       : std::string();
+  // A tangential-rotational or rolling limit bounds a mode that grows only to its cap: the run
+  // goes on, wrong (contacts creep), and may blow up only at the normal modes' limit.
+  const double blow_up = conduction_binds ? limit : est.limit.blow_up_dt;
+  const std::string also = blow_up > limit && std::isfinite(blow_up)
+                               ? format("; blow-up limit %.5g s (normal and wall-body modes: between the two, sticking "
+                                        "contacts creep within their cap and no check need fire)",
+                                        blow_up)
+                               : std::string();
   std::string boundary;
   if (stable > 0 && unstable > 0) {
     const double measured = std::sqrt(stable * unstable);
     out["measured_over_predicted"] = limit > 0 && std::isfinite(limit) ? nlohmann::json(measured / limit) : nlohmann::json(nullptr);
-    boundary = format("stability boundary between %.5g and %.5g s, predicted %s; measured / predicted %.3f%s\n",
-                      stable, unstable, predicted.c_str(), measured / limit, recommended.c_str());
+    out["measured_over_blow_up"] = blow_up > 0 && std::isfinite(blow_up) ? nlohmann::json(measured / blow_up) : nlohmann::json(nullptr);
+    boundary = format("stability boundary between %.5g and %.5g s, predicted %s%s; measured / predicted %.3f%s%s\n",
+                      stable, unstable, predicted.c_str(), also.c_str(), measured / limit,
+                      blow_up > limit && std::isfinite(blow_up) ? format(", / blow-up limit %.3f", measured / blow_up).c_str() : "",
+                      recommended.c_str());
   } else {
-    boundary = format("no stability boundary inside the sweep; predicted %s%s\n", predicted.c_str(), recommended.c_str());
+    boundary = format("no stability boundary inside the sweep; predicted %s%s%s\n", predicted.c_str(), also.c_str(),
+                      recommended.c_str());
   }
   report.publish(format("%s with %s to t = %g s (fields: difference from the smallest dt)\n\n", base.name.c_str(),
                         o.integrator.c_str(), t_end),

@@ -146,6 +146,87 @@ TEST_CASE("velocity Verlet beyond the slope disc's tangential limit is stopped w
   CHECK(healthy["energy"]["dissipated_friction"].get<double>() >= 0);
 }
 
+TEST_CASE("between the slope disc's tangential-rotational limit and the normal modes' blow-up limit velocity Verlet "
+          "creeps down the slope; beyond the second it blows up",
+          "[stability][checks]") {
+  // The tangential-rotational mode grows only until the rolling and Coulomb caps hold it, so the
+  // run goes on, balanced and wrong: at 3e-4 s (1.17 of the limit) the disc slides 77 um down the
+  // slope in 0.3 s (0.74 um, its settling into the floor, at any step below the limit). The
+  // sweep's boundary, 3.61e-4 s (a 1.41 miss before), is the blow-up limit of the normal mode,
+  // 2/omega_n shortened by the dashpot.
+  const StabilityEstimate vv = slope_estimate("velocity-verlet");
+  CHECK(vv.limit.mode == "tangential-rotational");
+  CHECK(vv.limit.blow_up_dt == Approx(3.6006e-4).epsilon(1e-3));
+  CHECK(slope_estimate("erk2").limit.blow_up_dt == slope_estimate("erk2").dt_limit);  // normal binds: one limit
+  auto displacement = [](const std::string& dt) {
+    FinalFields f;
+    run_scene(parse_scene(slope_disc, "slope_disc.yaml", {"dt=" + dt}), {"", true, &f});
+    return f.position[0];
+  };
+  CHECK(std::abs(displacement("2.5e-4")) < 1e-6);
+  CHECK(std::abs(displacement("3e-4")) > 1e-5);
+  CHECK_THROWS_AS(run_scene(parse_scene(slope_disc, "slope_disc.yaml", {"dt=3.7e-4"}), {"", true}), InstabilityError);
+  // kiln check says both.
+  const Scene at = parse_scene(slope_disc, "slope_disc.yaml", {"dt=3e-4"});
+  const DtVerdict verdict = judge_dt(estimate_stability(at), at.dt, at);
+  CHECK(verdict.unstable);
+  REQUIRE_FALSE(verdict.warnings.empty());
+  CHECK(verdict.warnings.front().find("sticking contacts creep or chatter") != std::string::npos);
+  CHECK(verdict.warnings.front().find("blows up beyond 0.00036") != std::string::npos);
+}
+
+namespace {
+
+// Twelve frictionless discs 0.1 mm apart above a floor: no contact at t = 0, a column on the floor
+// once they land. A fixed-free chain of N equal springs k and masses m has omega_max =
+// 2 sqrt(k/m) sin((2N - 1) pi / (2 (2N + 1))), 1.4031 times a lone pair's sqrt(2 k/m) for N = 12.
+std::string column() {
+  std::string at;
+  for (int i = 0; i < 12; ++i) at += (i ? ", [0.0, " : "[0.0, ") + std::to_string(0.0012 + 0.0021 * i) + "]";
+  return "name: column\ngravity: [0, -9.81]\nmaterials:\n"
+         "  glass: {density: 2500, stiffness: 1000, restitution: 0.5, friction: 0}\n"
+         "particles:\n  - {material: glass, radius: 0.001, at: [" + at + "]}\n"
+         "walls:\n  - {name: floor, material: glass, segment: [[-0.01, 0.0], [0.01, 0.0]]}\n"
+         "integrator: velocity-verlet\ndt: 1.0e-5\nt_end: 0.5\n";
+}
+
+}  // namespace
+
+TEST_CASE("the limit on a settled state is its network's: a landed column of 12 discs binds 1.40 times below its "
+          "lone pair, and the guard recommends from the contacts it has when a check fires",
+          "[stability][checks]") {
+  const Scene scene = parse_scene(column(), "column.yaml");
+  const StabilityEstimate start = estimate_stability(scene);
+  CHECK(start.limit.state == "a lone glass-glass contact");
+  RunOptions options{"", true};
+  options.limit_at_end = true;
+  const auto s = run_scene(scene, options);
+  REQUIRE(s["stability"].contains("at_end"));
+  const MechanicalLimit settled = limit_of_json(s["stability"]["at_end"]);
+  CHECK(settled.contacts == 12);
+  CHECK(settled.omega_max / start.limit.omega_max ==
+        Approx(2 * std::sin(23 * M_PI / 50) / std::sqrt(2.0)).epsilon(1e-4));
+  CHECK(settled.dt < 0.85 * start.dt_limit);
+  const StabilityEstimate joined = with_state(start, settled);
+  CHECK(joined.dt_limit == settled.dt);
+  CHECK(joined.recommended_dt <= joined.dt_limit);
+  // At 0.9 of the start's limit the column blows up as it lands (stopped at t = 0.015 s, its
+  // contacts then bind at 8.4e-5 s); the message quoted the lone pair's limit, above the dt that
+  // failed. (At 0.8 the growth is slower: the energy check fires at 0.14 s, when the column has
+  // flown apart, and the message falls back to the start's contacts.)
+  try {
+    run_scene(parse_scene(column(), "column.yaml", {"dt=1.0521e-4"}), {"", true});
+    FAIL("the column ran to the end");
+  } catch (const InstabilityError& e) {
+    const std::string m = e.what();
+    INFO(m);
+    const size_t at = m.find("velocity-verlet's limit ");
+    REQUIRE(at != std::string::npos);
+    CHECK(std::stod(m.substr(at + 24)) < 1.0521e-4);
+    CHECK(m.find("s on the contacts at t = ", at) != std::string::npos);
+  }
+}
+
 TEST_CASE("the guard's recommended dt says when it is the stability limit rather than contact duration / 50",
           "[stability][checks]") {
   // erk2 on the undamped harmonic pair: limit 1.19e-5 s, below t_c / 50 = 1.40e-5 s. The message
