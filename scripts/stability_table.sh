@@ -31,7 +31,8 @@ slope-no-tangential-dashpot|$slope|contacts=[{between: [copper, plate], tangenti
 t1-damped|$here/cases/t1_free_fall_damped.yaml||0.3
 harmonic-pair|$here/cases/harmonic_contact_pair.yaml||1
 f1-chain|$here/cases/f1_chain_slab.yaml||
-settled-column|$here/scripts/stability_column.yaml||"
+settled-column|$here/scripts/stability_column.yaml||
+light-lid|$here/scripts/stability_lid.yaml||"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 out="$here/docs/stability_table.md"
