@@ -29,7 +29,13 @@ class CheckCommand final : public Command {
     if (json_) {
       nlohmann::json j = {{"scene", scene.name}, {"dt", scene.dt}, {"estimate", estimate_json(est)},
                           {"refused", verdict.unstable}, {"warnings", verdict.warnings}};
-      j["estimate"]["limit_fraction"] = std::isfinite(est.dt_limit) && est.dt_limit > 0 ? nlohmann::json(scene.dt / est.dt_limit) : nlohmann::json(nullptr);
+      // What binds dt: the contacts' limit or explicit conduction's on the network at t = 0 (a
+      // frozen scene's only limit); limit_fraction is dt over it.
+      const bool conduction = scene.frozen || est.conduction_dt_limit < est.dt_limit;
+      const double binding = conduction ? est.conduction_dt_limit : est.dt_limit;
+      j["estimate"]["binding_kind"] = conduction ? "conduction" : "contacts";
+      j["estimate"]["binding_limit"] = std::isfinite(binding) ? nlohmann::json(binding) : nlohmann::json(nullptr);
+      j["estimate"]["limit_fraction"] = std::isfinite(binding) && binding > 0 ? nlohmann::json(scene.dt / binding) : nlohmann::json(nullptr);
       std::printf("%s\n", j.dump(2).c_str());
       return verdict.unstable ? exit_refused : exit_success;
     }
@@ -59,7 +65,8 @@ class CheckCommand final : public Command {
                     l.coordinates, l.contacts, l.omega_max);
       if (l.blow_up_dt > l.dt && std::isfinite(l.blow_up_dt))
         std::printf("  blow-up limit of dt        %.4g s (the normal and wall-body modes): between the two, the %s mode grows\n"
-                    "                             only to its %s cap, and sticking contacts creep or chatter there\n",
+                    "                             only to its %s cap, and sticking contacts creep or chatter there (just\n"
+                    "                             beyond the first the dissipation check stops the run, further out none may)\n",
                     l.blow_up_dt, l.mode.c_str(), l.mode == "rolling" ? "rolling" : "Coulomb");
       if (std::isfinite(est.rayleigh))
         std::printf("  Rayleigh time step         %.4g s (smallest particle); dt is %.1f %% of it\n", est.rayleigh,

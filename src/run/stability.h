@@ -26,11 +26,12 @@ struct MechanicalLimit {
   std::string where;       // "particles 3 and 7", "particle 0 on wall floor", "wall lid"
   std::string state;       // the state analysed: "the contacts at t = 0", "a lone copper-copper contact"
   double omega_max = 0;    // that state's stiffest undamped frequency (rad/s)
-  // When a tangential-rotational or rolling mode binds, the limit of the modes no cap bounds
-  // (normal, wall body; linearise_mechanics' Springs::uncapped), where the run blows up: between
-  // the two a sticking contact is not resolved, its mode grows to the Coulomb or rolling cap and
-  // the contact creeps or chatters there (a disc on a slope slides down it) with the energy
-  // balanced. Equal to dt otherwise.
+  // When a tangential-rotational or rolling mode binds a Verlet scheme, the limit of the modes no
+  // cap bounds (normal, wall body; linearise_mechanics' Springs::uncapped), where the run blows
+  // up: between the two a sticking contact is not resolved, its mode grows to the Coulomb or
+  // rolling cap and the contact creeps or chatters there (a disc on a slope slides down it), and
+  // only just beyond the first does the dissipation check stop it. Equal to dt otherwise (the
+  // Runge-Kutta tables blow up at the limit itself).
   double blow_up_dt = INFINITY;
   int coordinates = 0, contacts = 0;
 };

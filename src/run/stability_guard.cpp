@@ -253,9 +253,16 @@ void StabilityGuard::fail(double t, const double* y, const std::string& what) co
     s << "the stability estimate recommends dt <= " << est.recommended_dt
       << (est.recommended_dt < est.contact_duration / 50 ? " s (the stability limit; contact duration "
                                                           : " s (contact duration ")
-      << est.contact_duration << " s / 50, " << est.shortest_pair << "; " << describe_limit(est)
-      << (std::isfinite(est.thermal_dt_limit) ? "; conduction limit " + std::to_string(est.thermal_dt_limit) + " s)"
-                                              : std::string(")"));
+      << est.contact_duration << " s / 50, " << est.shortest_pair << "; " << describe_limit(est);
+    const double conduction = real_stability_of(est.integrator) / 2 * est.thermal_dt_limit_network;
+    if (std::isfinite(conduction)) s << "; explicit conduction limit " << conduction << " s on the network at t = 0";
+    s << ")";
+    if (est.dt_limit > dt_ && est.dt_limit == estimate_.dt_limit && !now)
+      s << "; the state at this failure is not finite, so the limit is the start's, above this dt: a contact network "
+           "formed since can bind lower (kiln sweep measures the limit on a settled end state)";
+    else if (est.dt_limit > dt_)
+      s << "; that limit is above this dt: the contacts at this failure (a state already blown apart) do not show "
+           "the network that failed; a settled network can bind lower (kiln sweep measures the limit on its end state)";
   }
   throw InstabilityError(s.str());
 }

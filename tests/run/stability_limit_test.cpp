@@ -175,6 +175,65 @@ TEST_CASE("between the slope disc's tangential-rotational limit and the normal m
   CHECK(verdict.warnings.front().find("blows up beyond 0.00036") != std::string::npos);
 }
 
+TEST_CASE("kiln sweep's boundary is the first failure: the slope disc under velocity Verlet fails just beyond its "
+          "tangential-rotational limit, creeps further out, and the window is reported",
+          "[stability][study]") {
+  // Ten steps from 2.4e-4 to 3.7e-4 s: 2.64e-4 s stopped (dissipation), 2.77e-4 to 3.53e-4 s run to
+  // the end (the disc creeps), 3.7e-4 s blows up. The sweep printed "between 3.53e-4 and 2.64e-4 s"
+  // and a ratio of their mean, 1.195, before.
+  SweepOptions o;
+  o.scene = written(slope_disc, "slope_disc.yaml");
+  o.integrator = "velocity-verlet";
+  o.dt_min = 2.4e-4;
+  o.dt_max = 3.7e-4;
+  o.points = 10;
+  o.t_end = 0.3;
+  o.quiet = true;
+  const auto s = run_sweep_study(o);
+  REQUIRE(s["largest_stable_dt"].is_number());
+  REQUIRE(s["smallest_unstable_dt"].is_number());
+  CHECK(s["largest_stable_dt"].get<double>() < s["smallest_unstable_dt"].get<double>());
+  CHECK(s["measured_over_predicted"].get<double>() == Approx(1).margin(0.03));
+  CHECK(s["stable_above_boundary"].get<double>() > 3.4e-4);
+  CHECK(s["estimate"]["blow_up_dt_limit"].get<double>() == Approx(3.6006e-4).epsilon(1e-3));
+  std::filesystem::remove_all(std::filesystem::path(o.scene).parent_path());
+}
+
+TEST_CASE("a thermal scene's conduction limit is judged on its network by check and sweep alike", "[stability][study]") {
+  // Two touching 20 um copper discs: erk4's explicit limit on their network is 6.57e-5 s and the
+  // sweep measures 6.65e-5 s; the sweep predicted 1.03e-5 s from the dense-packing guess, and
+  // check's JSON named the contacts as binding (dt 0.875 of their limit) while refusing the dt.
+  const std::string hot = R"(name: hotpair
+mass_model: sphere
+gravity: [0, 0]
+conduction_model: lens
+materials:
+  copper: {density: 8900, stiffness: 0.2, restitution: 0.5, specific_heat: 172, conductivity: 385}
+particles:
+  - {material: copper, radius: 2.0e-5, temperature: 100, at: [[0.0, 0.0]]}
+  - {material: copper, radius: 2.0e-5, temperature: 0, at: [[3.99e-5, 0.0]]}
+allow_overlap: true
+integrator: erk4
+dt: 1.0e-6
+t_end: 5.0e-4
+)";
+  const Scene scene = parse_scene(hot, "hotpair.yaml");
+  const StabilityEstimate est = estimate_stability(scene);
+  REQUIRE(est.conduction_dt_limit < est.dt_limit);
+  SweepOptions o;
+  o.scene = written(hot, "hotpair.yaml");
+  o.integrator = "erk4";
+  o.dt_min = 0.5 * est.conduction_dt_limit;
+  o.dt_max = 2 * est.conduction_dt_limit;
+  o.points = 4;
+  o.quiet = true;
+  const auto s = run_sweep_study(o);
+  CHECK(s["estimate"]["binding_limit"].get<double>() == Approx(est.conduction_dt_limit));
+  REQUIRE(s["measured_over_predicted"].is_number());
+  CHECK(s["measured_over_predicted"].get<double>() == Approx(1).margin(0.05));
+  std::filesystem::remove_all(std::filesystem::path(o.scene).parent_path());
+}
+
 namespace {
 
 // Twelve frictionless discs 0.1 mm apart above a floor: no contact at t = 0, a column on the floor
