@@ -161,9 +161,11 @@ std::optional<MechanicalLimit> limit_at(const DemSystem& system, double t, const
 namespace {
 
 // The scene with its particles and segments replaced by one contact: two discs of radii ra, rb
-// and materials a, b (wall < 0), or a disc of radius ra and material a on segment `segment`,
-// at `overlap`; at rest, in no periodic cell.
-Scene lone_contact(const Scene& scene, int a, double ra, int b, double rb, int segment, double overlap) {
+// and materials a, b (wall < 0; the second held in place when `b_held`: a fixed or attached
+// disc, which takes no forces), or a disc of radius ra and material a on segment `segment`, at
+// `overlap`; at rest, in no periodic cell.
+Scene lone_contact(const Scene& scene, int a, double ra, int b, double rb, int segment, double overlap,
+                   bool b_held = false) {
   Scene probe = scene;
   probe.position.clear();
   probe.velocity.clear();
@@ -173,18 +175,18 @@ Scene lone_contact(const Scene& scene, int a, double ra, int b, double rb, int s
   probe.attached.clear();
   probe.periodic = {};
   probe.frozen = false;
-  auto disc = [&](int material, double r, Vec2 at) {
+  auto disc = [&](int material, double r, Vec2 at, int attached = Scene::free_particle) {
     probe.position.push_back(at);
     probe.velocity.push_back({0, 0});
     probe.radius.push_back(r);
     probe.angular_velocity.push_back(0);
     probe.material.push_back(material);
-    probe.attached.push_back(Scene::free_particle);
+    probe.attached.push_back(attached);
   };
   probe.segments.clear();
   if (segment < 0) {
     disc(a, ra, {0, 0});
-    disc(b, rb, {ra + rb - overlap, 0});
+    disc(b, rb, {ra + rb - overlap, 0}, b_held ? Scene::fixed_particle : Scene::free_particle);
   } else {
     Segment s = scene.segments[segment];
     s.prev = -1;
@@ -228,8 +230,23 @@ double probe_overlap(const Scene& scene, int a, int b, double m_eff, double r_ef
   return std::min(0.5 * r_small, std::pow(1.25 * m_eff * speed * speed / k, 0.4));
 }
 
-MechanicalLimit scene_limit(const Scene& scene, const std::string& integrator, const std::vector<double>& rmin,
-                            const std::vector<int>& count, const ImpactSpeeds& speeds) {
+// The start's contacts, and the lone contacts free particles can form: with each other, with a
+// held (fixed or attached) particle, whose mass does not count, and with each wall. Two held
+// particles never meet.
+MechanicalLimit scene_limit(const Scene& scene, const std::string& integrator, const ImpactSpeeds& speeds) {
+  const int nm = scene.n_materials();
+  std::vector<double> rmin(nm, INFINITY), rheld(nm, INFINITY);  // smallest free and held radius per material
+  std::vector<int> count(nm, 0), held(nm, 0);
+  for (int i = 0; i < scene.n_particles(); ++i) {
+    const int m = scene.material[i];
+    if (scene.attached[i] == Scene::free_particle) {
+      rmin[m] = std::min(rmin[m], scene.radius[i]);
+      ++count[m];
+    } else {
+      rheld[m] = std::min(rheld[m], scene.radius[i]);
+      ++held[m];
+    }
+  }
   MechanicalLimit best;
   auto consider = [&](const MechanicalLimit& l) {
     if (l.dt < best.dt || (std::isinf(best.dt) && best.state.empty())) best = l;
@@ -245,10 +262,17 @@ MechanicalLimit scene_limit(const Scene& scene, const std::string& integrator, c
     consider(probe_limit(lone_contact(scene, a, rmin[a], b, rmin[b], -1, overlap), integrator,
                          "a lone " + scene.materials[a].name + "-" + scene.materials[b].name + " contact"));
   });
-  for (int a = 0; a < scene.n_materials(); ++a) {
+  for (int a = 0; a < nm; ++a) {
     if (!count[a]) continue;
     const Material& ma = scene.materials[a];
     const double mass_a = disc_mass(scene, rmin[a], ma.density);
+    for (int b = 0; b < nm; ++b) {
+      if (!held[b]) continue;
+      const double r_eff = rmin[a] * rheld[b] / (rmin[a] + rheld[b]);
+      const double overlap = probe_overlap(scene, a, b, mass_a, r_eff, std::min(rmin[a], rheld[b]), speeds.wall);
+      consider(probe_limit(lone_contact(scene, a, rmin[a], b, rheld[b], -1, overlap, true), integrator,
+                           "a lone " + ma.name + " contact with a held " + scene.materials[b].name + " particle"));
+    }
     for (size_t w = 0; w < scene.walls.size(); ++w) {
       int segment = -1;
       for (size_t s = 0; s < scene.segments.size() && segment < 0; ++s)
@@ -316,7 +340,7 @@ StabilityEstimate estimate_stability(const Scene& scene, const std::string& inte
   }
   if (!scene.frozen) {
     est.integrator = integrator.empty() ? scene.integrator : integrator;
-    est.limit = scene_limit(scene, est.integrator, rmin, count, speeds);
+    est.limit = scene_limit(scene, est.integrator, speeds);
     est.dt_limit = est.limit.dt;
   }
   est.recommended_dt = std::min(est.contact_duration / 50, est.dt_limit);
