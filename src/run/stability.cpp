@@ -200,11 +200,16 @@ Scene lone_contact(const Scene& scene, int a, double ra, int b, double rb, int s
   return probe;
 }
 
-MechanicalLimit probe_limit(const Scene& probe, const std::string& integrator, const std::string& state) {
+// The probe's limit, its place named `where` (the probe's own particle indices mean nothing in
+// the scene).
+MechanicalLimit probe_limit(const Scene& probe, const std::string& integrator, const std::string& state,
+                            const std::string& where) {
   DemSystem system(probe);
   const std::vector<double> y = system.initial_state();
   system.prepare(0, y.data(), 0);
-  return mechanical_limit(system, 0, y.data(), integrator, state);
+  MechanicalLimit l = mechanical_limit(system, 0, y.data(), integrator, state);
+  if (l.mode != "wall body") l.where = where;
+  return l;
 }
 
 // f(a, b, m_eff, r_eff) for each pair of materials a <= b the scene can bring together, as their
@@ -260,7 +265,9 @@ MechanicalLimit scene_limit(const Scene& scene, const std::string& integrator, c
   for_each_material_pair(scene, rmin, count, [&](int a, int b, double m_eff, double r_eff) {
     const double overlap = probe_overlap(scene, a, b, m_eff, r_eff, std::min(rmin[a], rmin[b]), speeds.pair);
     consider(probe_limit(lone_contact(scene, a, rmin[a], b, rmin[b], -1, overlap), integrator,
-                         "a lone " + scene.materials[a].name + "-" + scene.materials[b].name + " contact"));
+                         "a lone " + scene.materials[a].name + "-" + scene.materials[b].name + " contact",
+                         "the smallest free " + scene.materials[a].name + " and " + scene.materials[b].name +
+                             " particles"));
   });
   for (int a = 0; a < nm; ++a) {
     if (!count[a]) continue;
@@ -271,7 +278,9 @@ MechanicalLimit scene_limit(const Scene& scene, const std::string& integrator, c
       const double r_eff = rmin[a] * rheld[b] / (rmin[a] + rheld[b]);
       const double overlap = probe_overlap(scene, a, b, mass_a, r_eff, std::min(rmin[a], rheld[b]), speeds.wall);
       consider(probe_limit(lone_contact(scene, a, rmin[a], b, rheld[b], -1, overlap, true), integrator,
-                           "a lone " + ma.name + " contact with a held " + scene.materials[b].name + " particle"));
+                           "a lone " + ma.name + " contact with a held " + scene.materials[b].name + " particle",
+                           "the smallest free " + ma.name + " particle on the smallest held " +
+                               scene.materials[b].name + " one"));
     }
     for (size_t w = 0; w < scene.walls.size(); ++w) {
       int segment = -1;
@@ -280,7 +289,8 @@ MechanicalLimit scene_limit(const Scene& scene, const std::string& integrator, c
       if (segment < 0) continue;
       const double overlap = probe_overlap(scene, a, scene.walls[w].material, mass_a, rmin[a], rmin[a], speeds.wall);
       consider(probe_limit(lone_contact(scene, a, rmin[a], -1, 0, segment, overlap), integrator,
-                           "a lone " + ma.name + " contact with wall " + scene.walls[w].name));
+                           "a lone " + ma.name + " contact with wall " + scene.walls[w].name,
+                           "the smallest free " + ma.name + " particle on wall " + scene.walls[w].name));
     }
   }
   return best;

@@ -283,6 +283,8 @@ TEST_CASE("the limit on a settled state is its network's: a landed column of 12 
   const Scene scene = parse_scene(column(), "column.yaml");
   const StabilityEstimate start = estimate_stability(scene);
   CHECK(start.limit.state == "a lone glass-glass contact");
+  // Named by what it probes: the probe's own "particles 0 and 1" named two steel balls in the C2 mill.
+  CHECK(start.limit.where == "the smallest free glass and glass particles");
   RunOptions options{"", true};
   options.limit_at_end = true;
   const auto s = run_scene(scene, options);
