@@ -86,14 +86,18 @@ class CheckCommand final : public Command {
                     est.thermal_dt_limit_network);
       else
         std::printf("  explicit conduction limit  none at t = 0 (no conducting contact)");
-      if (!scene.frozen) std::printf(", %.4g s (dense packing at 1 %% overlap)", est.thermal_dt_limit);
+      if (!scene.frozen && std::isfinite(est.thermal_dt_limit))
+        std::printf(", %.4g s (dense packing at 1 %% overlap)", est.thermal_dt_limit);
       const double reach = real_stability_of(scene.integrator);
       if (std::isinf(reach))
         std::printf("\n  %-26s none (conduction implicit)", (scene.integrator + "'s limit").c_str());
-      else if (reach != 2)
+      else if (reach != 2 && std::isfinite(est.thermal_dt_limit_network))
         std::printf("\n  %-26s %.4g s (%.4g / lambda_max: the table's reach on the negative real axis)",
                     (scene.integrator + "'s limit").c_str(), reach / 2 * est.thermal_dt_limit_network, reach);
-      std::printf("\n  thermal relaxation time    %.4g s (fastest mode, 1 / lambda_max)\n", est.thermal_relaxation_time);
+      if (std::isfinite(est.thermal_relaxation_time))
+        std::printf("\n  thermal relaxation time    %.4g s (fastest mode, 1 / lambda_max)\n", est.thermal_relaxation_time);
+      else
+        std::printf("\n  thermal relaxation time    none (no conducting contact)\n");
     }
     std::fflush(stdout);  // the verdict goes to stderr, after the table
     for (const std::string& w : verdict.warnings)
