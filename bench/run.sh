@@ -4,7 +4,8 @@
 #
 #   bench/run.sh           the full run (about an hour on 2 cores): 1,000, 10,000 and 100,000 discs
 #                          resting, 10,000 flowing, heat (LIGGGHTS' fix heat/gran/conduction),
-#                          ARKODE, 2 threads on 100,000; 5 alternating pairs (3 at 100,000)
+#                          ARKODE, 2 threads on 100,000, 100,000 numbered at random (mixed);
+#                          5 alternating pairs (3 at 100,000)
 #   bench/run.sh --quick   the same figures from fewer steps and repeats, in under 10 minutes
 #   bench/run.sh --smoke   the guard against a regression, under a minute after the build: the
 #                          1,000-disc pile, kiln and LAMMPS alternately (9 pairs of 10,000 steps), and the ratio
@@ -162,6 +163,8 @@ liggghts_pile() {
   awk '/^Atoms/ { atoms = 1; print; next } /^Velocities/ { atoms = 0 }
        atoms && NF >= 7 { $4 = sprintf("%.17g", $4 * 2 / 3 * $3) } { print }' "$1" >"$2"
 }
+# The 100,000 pile numbered at random: a pile whose particles have mixed after flowing a while.
+[ -s "$piles/pile_100k_mixed.data" ] || python3 "$here/shuffle_pile.py" "$piles/pile_100k.data" "$piles/pile_100k_mixed.data" 1
 if [ $have_liggghts = 1 ]; then liggghts_pile "$piles/pile_10k.data" "$piles/pile_10k_liggghts.data"; fi
 middle_x() { awk '/xlo xhi/ { printf "%.17g\n", ($1 + $2) / 2; exit }' "$1"; }
 
@@ -282,6 +285,12 @@ for repeat in $(seq "$pairs_100k"); do
   kiln_run resting 100000 "$p100k" "$steps_100k" "$warm_100k" 1
   lammps_run resting 100000 "$p100k" "$steps_100k" "$warm_100k" 0 -1
   kiln_run resting 100000 "$p100k" "$steps_100k" "$warm_100k" 2
+done
+
+start_group mixed "100,000 discs, resting, numbered at random (as after flowing a while): kiln, LAMMPS"
+for repeat in $(seq "$pairs_100k"); do
+  kiln_run mixed 100000 "$piles/pile_100k_mixed.data" "$steps_100k" "$warm_100k" 1
+  lammps_run mixed 100000 "$piles/pile_100k_mixed.data" "$steps_100k" "$warm_100k" 0 -1
 done
 
 echo
