@@ -1,8 +1,8 @@
 #include "src/run/linearised_dynamics.h"
 
-#include <Eigen/Sparse>
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 #include "src/base/symmetric_eigen.h"
 
@@ -21,18 +21,77 @@ double dashpot(const ContactSprings& s, int kind) {
   return kind == normal_spring ? s.cn : kind == tangential_spring ? s.ct : s.cr;
 }
 
-// Orthonormal columns spanning `columns`, dropping those already (nearly) in the span.
-Eigen::MatrixXd orthonormal(const Eigen::MatrixXd& columns) {
-  Eigen::MatrixXd q(columns.rows(), 0);
-  for (Eigen::Index c = 0; c < columns.cols(); ++c) {
-    Eigen::VectorXd v = columns.col(c);
-    for (int pass = 0; pass < 2; ++pass) v -= q * (q.transpose() * v);  // twice: kept orthogonal
+// Orthonormalises q's columns in place (Gram-Schmidt, twice: kept orthogonal), dropping those
+// already (nearly) in the span of the ones before.
+void orthonormalise(Eigen::MatrixXd& q) {
+  Eigen::Index kept = 0;
+  for (Eigen::Index c = 0; c < q.cols(); ++c) {
+    Eigen::VectorXd v = q.col(c);
+    for (int pass = 0; pass < 2; ++pass) v -= q.leftCols(kept) * (q.leftCols(kept).transpose() * v);
     const double size = v.norm();
     if (size < 1e-8) continue;
-    q.conservativeResize(Eigen::NoChange, q.cols() + 1);
-    q.col(q.cols() - 1) = v / size;
+    q.col(kept++) = v / size;
   }
-  return q;
+  q.conservativeResize(Eigen::NoChange, kept);
+}
+
+// K~ (the springs) or C~ (the dashpots) applied from the rows: each spring adds
+// coefficient B^T (B x); a wall body's dashpot adds to its diagonal.
+class SpringOperator final : public SymmetricOperator {
+ public:
+  SpringOperator(const LinearisedMechanics& m, bool dashpots, std::vector<std::pair<int, double>> diagonal)
+      : m_(m), dashpots_(dashpots), diagonal_(std::move(diagonal)) {}
+  int rows() const override { return m_.coordinates; }
+  double coefficient(size_t contact, int kind) const {
+    return dashpots_ ? dashpot(m_.contacts[contact], kind) : stiffness(m_.contacts[contact], kind);
+  }
+  bool zero() const {
+    for (size_t p = 0; p < m_.contacts.size(); ++p)
+      for (int kind : {normal_spring, tangential_spring, rolling_spring})
+        if (coefficient(p, kind) != 0 && m_.rows[p][kind].size > 0) return false;
+    return diagonal_.empty();
+  }
+  void apply(const double* x, double* y) const override {
+    std::fill_n(y, rows(), 0.0);
+    for (const auto& [at, d] : diagonal_) y[at] += d * x[at];
+    for (size_t p = 0; p < m_.contacts.size(); ++p)
+      for (int kind : {normal_spring, tangential_spring, rolling_spring}) {
+        const double k = coefficient(p, kind);
+        if (k == 0) continue;
+        const SpringRow& r = m_.rows[p][kind];
+        double strain = 0;
+        for (int a = 0; a < r.size; ++a) strain += r.by[a] * x[r.at[a]];
+        for (int a = 0; a < r.size; ++a) y[r.at[a]] += k * strain * r.by[a];
+      }
+  }
+
+ private:
+  const LinearisedMechanics& m_;
+  bool dashpots_;
+  std::vector<std::pair<int, double>> diagonal_;
+};
+
+// The `count` largest eigenpairs of `a` that strain it: a free body's rigid motion (eigenvalue 0
+// of both operators) binds no step and is left out.
+Eigenpairs straining_modes(const SpringOperator& a, int count) {
+  if (a.zero()) return {};
+  Eigenpairs e = largest_eigenpairs(a, count);
+  Eigen::Index kept = 0;
+  while (kept < e.values.size() && e.values[kept] > 1e-9 * e.values[0]) ++kept;
+  e.values.conservativeResize(kept);
+  e.vectors.conservativeResize(Eigen::NoChange, kept);
+  return e;
+}
+
+// basis^T a basis, exactly symmetric as the operator is: one product per column.
+Eigen::MatrixXd projected(const SpringOperator& a, const Eigen::MatrixXd& basis) {
+  Eigen::MatrixXd p(basis.cols(), basis.cols());
+  Eigen::VectorXd column(basis.rows());
+  for (Eigen::Index c = 0; c < basis.cols(); ++c) {
+    a.apply(basis.col(c).data(), column.data());
+    p.col(c) = basis.transpose() * column;
+  }
+  return 0.5 * (p + p.transpose());
 }
 
 }  // namespace
@@ -44,16 +103,17 @@ LinearisedMechanics linearise_mechanics(const DemSystem& sys, double t, const do
   if (springs == Springs::uncapped)
     for (ContactSprings& s : m.contacts) s.kt = s.ct = s.kr = s.cr = 0;
   const bool rotates = sys.rotates();
-  std::vector<int> particle_at;  // each particle's first coordinate, -1 when it has none
+  std::vector<int> particle_at;        // each particle's first coordinate, -1 when it has none
+  std::vector<double> inv_sqrt_mass;   // per coordinate: 1/sqrt(kg), or 1/sqrt(kg m^2) for an angle
   int n = 0;
   for (int i = 0; i < sys.particles(); ++i) {
     particle_at.push_back(sys.attached(i) ? -1 : n);
     if (sys.attached(i)) continue;
-    m.inv_sqrt_mass.insert(m.inv_sqrt_mass.end(), 2, 1 / std::sqrt(sys.mass(i)));
-    if (rotates) m.inv_sqrt_mass.push_back(1 / std::sqrt(sys.inertia(i)));
+    inv_sqrt_mass.insert(inv_sqrt_mass.end(), 2, 1 / std::sqrt(sys.mass(i)));
+    if (rotates) inv_sqrt_mass.push_back(1 / std::sqrt(sys.inertia(i)));
     n += rotates ? 3 : 2;
   }
-  std::vector<Eigen::Triplet<double>> kt, ct;
+  std::vector<std::pair<int, double>> body_dashpots;
   std::vector<Vec2> load(sys.bodies());  // unit directions of the bodies' coordinates
   for (size_t w = 0; w < scene.walls.size(); ++w) {
     const int b = sys.body_of_wall(static_cast<int>(w));
@@ -62,24 +122,28 @@ LinearisedMechanics linearise_mechanics(const DemSystem& sys, double t, const do
     m.body_at.resize(std::max<size_t>(m.body_at.size(), b + 1));
     m.body_at[b] = n;
     load[b] = motion.along_load(1);
-    m.inv_sqrt_mass.push_back(1 / std::sqrt(motion.mass));
-    if (motion.damping > 0) ct.emplace_back(n, n, motion.damping / motion.mass);
+    inv_sqrt_mass.push_back(1 / std::sqrt(motion.mass));
+    if (motion.damping > 0) body_dashpots.emplace_back(n, motion.damping / motion.mass);
     ++n;
   }
   m.coordinates = n;
+  auto term = [&](SpringRow& r, int coordinate, double coefficient) {
+    r.add(coordinate, coefficient * inv_sqrt_mass[coordinate]);
+  };
   // A body's displacement along `dir` (+1 for i, -1 for the other): its own coordinates, those of
   // the wall body it is attached to, or none (driven).
   auto translation = [&](SpringRow& r, int i, double sign, Vec2 dir) {
     if (particle_at[i] >= 0) {
-      r.add(particle_at[i], sign * dir.x);
-      r.add(particle_at[i] + 1, sign * dir.y);
+      term(r, particle_at[i], sign * dir.x);
+      term(r, particle_at[i] + 1, sign * dir.y);
     } else if (const int w = scene.attached[i]; w >= 0 && sys.body_of_wall(w) >= 0) {
-      r.add(m.body_at[sys.body_of_wall(w)], sign * dot(dir, load[sys.body_of_wall(w)]));
+      term(r, m.body_at[sys.body_of_wall(w)], sign * dot(dir, load[sys.body_of_wall(w)]));
     }
   };
   auto angle = [&](SpringRow& r, int i, double coefficient) {
-    if (rotates && particle_at[i] >= 0) r.add(particle_at[i] + 2, coefficient);
+    if (rotates && particle_at[i] >= 0) term(r, particle_at[i] + 2, coefficient);
   };
+  m.rows.reserve(m.contacts.size());
   for (const ContactSprings& s : m.contacts) {
     std::array<SpringRow, 3> rows;
     const Vec2 n_dir = s.normal, t_dir = perp(s.normal);
@@ -88,7 +152,7 @@ LinearisedMechanics linearise_mechanics(const DemSystem& sys, double t, const do
       const Vec2 dir = kind == normal_spring ? n_dir : t_dir;
       translation(rows[kind], s.i, 1, dir);
       if (s.j >= 0) translation(rows[kind], s.j, -1, dir);
-      if (wall_body >= 0) rows[kind].add(m.body_at[wall_body], -dot(dir, load[wall_body]));
+      if (wall_body >= 0) term(rows[kind], m.body_at[wall_body], -dot(dir, load[wall_body]));
     }
     angle(rows[tangential_spring], s.i, s.arm_i);
     angle(rows[rolling_spring], s.i, 1);
@@ -96,46 +160,32 @@ LinearisedMechanics linearise_mechanics(const DemSystem& sys, double t, const do
       angle(rows[tangential_spring], s.j, s.arm_j);
       angle(rows[rolling_spring], s.j, -1);
     }
-    for (int kind : {normal_spring, tangential_spring, rolling_spring}) {
-      const double k = stiffness(s, kind), c = dashpot(s, kind);
-      const SpringRow& r = rows[kind];
-      for (int a = 0; a < r.size; ++a)
-        for (int b = 0; b < r.size; ++b) {
-          const double scaled = r.by[a] * r.by[b] * m.inv_sqrt_mass[r.at[a]] * m.inv_sqrt_mass[r.at[b]];
-          if (k != 0) kt.emplace_back(r.at[a], r.at[b], k * scaled);
-          if (c != 0) ct.emplace_back(r.at[a], r.at[b], c * scaled);
-        }
-    }
     m.rows.push_back(rows);
   }
-  Eigen::SparseMatrix<double> ks(n, n), cs(n, n);
-  ks.setFromTriplets(kt.begin(), kt.end());
-  cs.setFromTriplets(ct.begin(), ct.end());
-  // The directions that strain a spring or a dashpot; a free body's rigid motion (eigenvalue 0
-  // of both) binds no step and is left out.
-  Eigen::MatrixXd columns(n, 0);
-  auto keep = [&](const Eigen::SparseMatrix<double>& a, int count) {
-    if (a.nonZeros() == 0) return 0.0;
-    const Eigenpairs e = largest_eigenpairs(a, count);
-    for (Eigen::Index c = 0; c < e.values.size() && e.values[c] > 1e-9 * e.values[0]; ++c) {
-      columns.conservativeResize(Eigen::NoChange, columns.cols() + 1);
-      columns.col(columns.cols() - 1) = e.vectors.col(c);
-    }
-    return e.values.size() ? std::max(0.0, e.values[0]) : 0.0;
-  };
-  m.omega_max = std::sqrt(keep(ks, stiff_modes));
-  keep(cs, damped_modes);
-  m.basis = orthonormal(columns);
-  const Eigen::MatrixXd k = m.basis.transpose() * (ks * m.basis), c = m.basis.transpose() * (cs * m.basis);
-  m.k = 0.5 * (k + k.transpose());  // exactly symmetric, as the operators are
-  m.c = 0.5 * (c + c.transpose());
+  const SpringOperator ks(m, false, {}), cs(m, true, std::move(body_dashpots));
+  // The directions that strain a spring or a dashpot, one after the other: only one Lanczos basis
+  // exists at a time.
+  {
+    Eigenpairs stiff = straining_modes(ks, stiff_modes);
+    m.omega_max = stiff.values.size() ? std::sqrt(std::max(0.0, stiff.values[0])) : 0.0;
+    const Eigenpairs damped = straining_modes(cs, damped_modes);
+    const Eigen::Index a = stiff.values.size(), b = damped.values.size();
+    m.basis.resize(n, a + b);
+    if (a) m.basis.leftCols(a) = stiff.vectors;
+    if (b) m.basis.rightCols(b) = damped.vectors;
+  }
+  orthonormalise(m.basis);
+  m.k = projected(ks, m.basis);
+  m.c = projected(cs, m.basis);
   return m;
 }
 
 ModeDescription describe_mode(const LinearisedMechanics& m, const Eigen::VectorXcd& reduced_shape, const Scene& scene) {
   ModeDescription d;
   if (reduced_shape.size() != m.basis.cols() || m.basis.cols() == 0) return d;
-  const Eigen::VectorXcd scaled = m.basis.cast<std::complex<double>>() * reduced_shape;
+  Eigen::VectorXcd scaled(m.basis.rows());  // real and imaginary parts apart: no complex copy of the basis
+  scaled.real() = m.basis * reduced_shape.real();
+  scaled.imag() = m.basis * reduced_shape.imag();
   // The wall bodies' share of the kinetic energy (|amplitude|^2 in mass-scaled coordinates).
   double bodies = 0;
   int heaviest = -1;
@@ -151,10 +201,8 @@ ModeDescription describe_mode(const LinearisedMechanics& m, const Eigen::VectorX
       if (w.motion.free_along_load() && b++ == heaviest) d.where = "wall " + w.name;
     return d;
   }
-  // Each spring's energy k |B u|^2 in physical displacements u (a mode no spring holds: its
-  // dashpots' c |B u|^2).
-  Eigen::VectorXcd u = scaled;
-  for (Eigen::Index k = 0; k < u.size(); ++k) u[k] *= m.inv_sqrt_mass[k];
+  // Each spring's energy k |B u|^2 (a mode no spring holds: its dashpots' c |B u|^2), B u from the
+  // mass-scaled rows and shape.
   auto energies = [&](bool springs) {
     double total[3] = {0, 0, 0}, best = -1;
     int best_kind = 0, best_contact = -1;
@@ -163,7 +211,7 @@ ModeDescription describe_mode(const LinearisedMechanics& m, const Eigen::VectorX
       for (int kind = 0; kind < 3; ++kind) {
         const SpringRow& r = m.rows[p][kind];
         std::complex<double> strain = 0;
-        for (int a = 0; a < r.size; ++a) strain += r.by[a] * u[r.at[a]];
+        for (int a = 0; a < r.size; ++a) strain += r.by[a] * scaled[r.at[a]];
         const double coefficient = springs ? stiffness(m.contacts[p], kind) : dashpot(m.contacts[p], kind);
         each[p][kind] = coefficient * std::norm(strain);
         total[kind] += each[p][kind];

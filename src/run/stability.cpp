@@ -112,22 +112,24 @@ void thermal_estimate(const Scene& scene, const std::vector<double>& rmin, const
 MechanicalLimit mechanical_limit(const DemSystem& system, double t, const double* y, const std::string& integrator,
                                  const std::string& state) {
   const IntegratorInfo& info = integrator_info(integrator);
-  const LinearisedMechanics m = linearise_mechanics(system, t, y);
-  const StepLimit step = mechanical_step_limit(info, m.k, m.c);
   MechanicalLimit out;
-  out.dt = step.dt;
+  {  // gone before the uncapped springs' linearisation: one basis and one set of rows at a time
+    const LinearisedMechanics m = linearise_mechanics(system, t, y);
+    const StepLimit step = mechanical_step_limit(info, m.k, m.c);
+    out.dt = step.dt;
+    out.omega_max = m.omega_max;
+    out.coordinates = m.coordinates;
+    out.contacts = static_cast<int>(m.contacts.size());
+    const ModeDescription d = describe_mode(m, step.shape, system.scene());
+    out.mode = d.kind;
+    out.where = d.where;
+  }
   out.state = state;
-  out.omega_max = m.omega_max;
-  out.coordinates = m.coordinates;
-  out.contacts = static_cast<int>(m.contacts.size());
-  const ModeDescription d = describe_mode(m, step.shape, system.scene());
-  out.mode = d.kind;
-  out.where = d.where;
   out.blow_up_dt = out.dt;
   // Measured (docs/stability_table.md): under the Verlet schemes such a mode saturates at its cap;
   // under the Runge-Kutta tables (erk4 on the slope disc at 1.05 of its limit) the run blows up
   // at the limit itself.
-  if ((d.kind == "tangential-rotational" || d.kind == "rolling") && info.scheme != IntegratorScheme::arkode) {
+  if ((out.mode == "tangential-rotational" || out.mode == "rolling") && info.scheme != IntegratorScheme::arkode) {
     const LinearisedMechanics uncapped = linearise_mechanics(system, t, y, Springs::uncapped);
     out.blow_up_dt = std::max(out.dt, mechanical_step_limit(info, uncapped.k, uncapped.c).dt);
   }

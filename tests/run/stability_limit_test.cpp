@@ -7,9 +7,11 @@
 #include <cmath>
 #include <complex>
 #include <fstream>
+#include <sstream>
 
 #include "integrators/stability_region.h"
 #include "src/base/error.h"
+#include "src/base/symmetric_eigen.h"
 #include "src/dem/contact_coefficients.h"
 #include "src/run/simulation.h"
 #include "src/run/stability.h"
@@ -400,4 +402,30 @@ TEST_CASE("kiln sweep measures the slope disc's and F1's boundaries within 10 % 
     CHECK(measured / limit < 1.1);
   }
   std::filesystem::remove_all(std::filesystem::path(slope).parent_path());
+}
+
+TEST_CASE("a periodic ring of 200 touching discs, too many coordinates to decompose whole, binds at its chain's "
+          "stiffest mode, omega = 2 sqrt(k/m)",
+          "[stability]") {
+  // The mode in which neighbours move against each other: the periodic chain Laplacian's largest
+  // eigenvalue, 4 k/m. Found by Lanczos from the springs' rows, no operator stored.
+  std::ostringstream text;
+  text << "name: ring\nmaterials:\n  glass: {density: 2500, stiffness: 1.0e4, restitution: 1.0}\n"
+       << "gravity: [0, 0]\nparticles:\n  - material: glass\n    radius: 0.001\n    at: [";
+  const int discs = 200;
+  const double spacing = 0.00199;
+  for (int i = 0; i < discs; ++i) text << (i ? ", " : "") << "[" << (i + 0.5) * spacing << ", 0.0]";
+  text << "]\nperiodic: {x: [0, " << discs * spacing << "]}\nallow_overlap: true\nintegrator: velocity-verlet\n"
+       << "dt: 1.0e-6\nt_end: 1.0e-3\n";
+  const Scene scene = parse_scene(text.str(), "ring.yaml");
+  DemSystem system(scene);
+  const std::vector<double> y = system.initial_state();
+  system.prepare(0, y.data(), 0);
+  const MechanicalLimit l = mechanical_limit(system, 0, y.data(), "velocity-verlet", "the ring");
+  REQUIRE(l.coordinates > dense_limit);
+  CHECK(l.contacts == discs);
+  const double k = system.contact_springs(0, y.data()).front().kn, m = system.mass(0);
+  CHECK(l.omega_max == Approx(2 * std::sqrt(k / m)).epsilon(1e-7));  // the Lanczos tolerance
+  CHECK(l.dt == Approx(1 / std::sqrt(k / m)).epsilon(1e-6));
+  CHECK(l.mode == "normal");
 }
