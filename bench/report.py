@@ -26,6 +26,7 @@ def load(path):
         for key in ("loop_s", "peak_rss_mb"):
             r[key] = float(r[key])
         r["contacts_per_disc"] = float(r["contacts_per_disc"]) if r["contacts_per_disc"] else None
+        r["rebuild_ns_per_disc"] = float(r["rebuild_ns_per_disc"]) if r.get("rebuild_ns_per_disc") else None
         r["rate"] = r["n"] * r["steps"] / r["loop_s"]
     return rows
 
@@ -147,6 +148,17 @@ def main(path):
             figures = ", ".join(f"{v:.1f} at N={n}" for n, v in ns)
             growth = f"; largest/smallest N: {ns[-1][1] / ns[0][1]:.2f}" if len(ns) > 1 else ""
             print(f"  ns per particle-step, {code}: {figures}{growth}" + ("  (goal: flat)" if code == "kiln" else ""))
+
+    # A neighbour rebuild per disc: kiln's rebuilds while timed (or its first build, when none),
+    # LAMMPS' Neigh time per build of the timed run.
+    rebuilt = [r for r in rows if r["rebuild_ns_per_disc"] is not None]
+    show("  neighbour rebuild per disc, kiln/LAMMPS, flowing, N=10000",
+         paired(rebuilt, "flowing", dict(code="kiln", **vv), dict(code="LAMMPS"), lambda r: r["rebuild_ns_per_disc"]),
+         "  (goal <= 1)")
+    for code in ("kiln", "LAMMPS"):
+        ns = median_of(rebuilt, lambda r: r["rebuild_ns_per_disc"], group="flowing", code=code)
+        if ns is not None:
+            print(f"  neighbour rebuild per disc, {code}, flowing, N=10000: {ns:.0f} ns")
 
     show("  kiln 2-thread speed-up, N=100000 (1-thread / 2-thread loop time)",
          paired(rows, "large", dict(code="kiln", integrator="velocity-verlet", threads=2),

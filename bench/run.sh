@@ -169,7 +169,7 @@ if [ $have_liggghts = 1 ]; then liggghts_pile "$piles/pile_10k.data" "$piles/pil
 middle_x() { awk '/xlo xhi/ { printf "%.17g\n", ($1 + $2) / 2; exit }' "$1"; }
 
 # ---- runs ----
-echo "group,repeat,code,model,integrator,n,steps,warmup,threads,loop_s,rhs_evals,peak_rss_mb,contacts_per_disc,log" >"$csv"
+echo "group,repeat,code,model,integrator,n,steps,warmup,threads,loop_s,rhs_evals,peak_rss_mb,contacts_per_disc,rebuild_ns_per_disc,log" >"$csv"
 count=0
 group=""
 repeat=0
@@ -190,21 +190,25 @@ record() {
     tail -n 15 "$log"
     exit 1
   fi
-  local loop rhs contacts
+  local loop rhs contacts rebuild
   if [ "$code" = kiln ]; then
     loop=$(sed -n 's/^kiln-bench: .* loop_s=\([^ ]*\).*/\1/p' "$log")
     rhs=$(sed -n 's/^kiln-bench: .* rhs_evals=\([^ ]*\).*/\1/p' "$log")
     contacts=$(sed -n 's/^kiln-bench: .* contacts_per_disc=\([^ ]*\).*/\1/p' "$log")
+    rebuild=$(sed -n 's/^kiln-bench: .* rebuild_ns_per_disc=\([^ ]*\).*/\1/p' "$log")
   else
     # "Loop time of X on 1 procs for N steps ...": the timed run is the last one.
     loop=$(awk -v steps="$steps" '/^Loop time of/ && $9 == steps { t = $4 } END { print t }' "$log")
     rhs=$steps
     contacts=$(sed -n 's/^lammps-contacts-per-disc: *//p' "$log")
+    # A build's cost per disc: the timed run's "Neigh | T" over its "Neighbor list builds = B".
+    rebuild=$(awk -v n="$n" '/^Neigh +\|/ { t = $3 } /^Neighbor list builds =/ { b = $5 }
+                             END { if (b > 0) printf "%.1f\n", 1e9 * t / b / n }' "$log")
   fi
   [ -n "$loop" ] || { echo "no loop time for $steps steps in $log"; exit 1; }
   local rss
   rss=$(awk -F': ' '/Maximum resident set size/ { printf "%.2f", $2 / 1024 }' "$log.time")
-  echo "$group,$repeat,$code,$model,$integrator,$n,$steps,$warmup,$threads,$loop,$rhs,$rss,$contacts,$log" >>"$csv"
+  echo "$group,$repeat,$code,$model,$integrator,$n,$steps,$warmup,$threads,$loop,$rhs,$rss,$contacts,$rebuild,$log" >>"$csv"
   awk -v l="$loop" -v n="$n" -v s="$steps" -v r="$rss" \
     'BEGIN { printf "%.2f s, %.3g particle-steps/s, %.0f MB\n", l, n * s / l, r }'
 }

@@ -51,9 +51,16 @@ void Broadphase::particle_pairs(const double* x, const double* y, const double* 
     const double reach = r[i] + margin;
     return box(anchor_x_[i] - reach, anchor_y_[i] - reach, anchor_x_[i] + reach, anchor_y_[i] + reach);
   };
-  if (static_cast<int>(particle_proxy_.size()) != n) {
+  // Every particle counts as re-inserted when the tree is new, or the skin or the cell changed
+  // (the kept pairs were found for those).
+  const bool inserted = static_cast<int>(particle_proxy_.size()) != n;
+  const bool same_cell = cell.x == anchored_cell_.x && cell.y == anchored_cell_.y && cell.x0 == anchored_cell_.x0 &&
+                         cell.x1 == anchored_cell_.x1 && cell.y0 == anchored_cell_.y0 && cell.y1 == anchored_cell_.y1;
+  moved_.assign(n, inserted || skin_ != anchored_skin_ || !same_cell);
+  if (inserted) {
     for (int32 id : particle_proxy_) particles_.DestroyProxy(id);
     particle_proxy_.clear();
+    anchor_pairs_.clear();
     anchor_x_.assign(x, x + n);
     anchor_y_.assign(y, y + n);
     for (int i = 0; i < n; ++i) particle_proxy_.push_back(particles_.CreateProxy(fat_box(i), as_user_data(i)));
@@ -63,34 +70,80 @@ void Broadphase::particle_pairs(const double* x, const double* y, const double* 
       anchor_x_[i] = x[i];
       anchor_y_[i] = y[i];
       particles_.MoveProxy(particle_proxy_[i], fat_box(i), b2Vec2(0, 0));
+      moved_[i] = 1;
     }
   }
-  out.clear();
-  // In a periodic cell a particle near an edge also looks for neighbours around its images
-  // across that edge; the exact test takes the nearest images.
+  anchored_skin_ = skin_;
+  anchored_cell_ = cell;
+  // The anchors' pairs: fat boxes that overlap a particle's anchor box widened by the skin, found
+  // again only for the particles re-inserted; the others' anchors and boxes did not change. Each
+  // position lies within a margin of its anchor, so a pair within the skin has anchors within the
+  // skin and two margins: every pair within the skin is an anchors' pair.
+  found_.clear();
   const double lx = cell.x ? cell.length_x() : 0, ly = cell.y ? cell.length_y() : 0;
-  // A pair is kept from its first particle's query only: that particle looks across an edge when
-  // any neighbour (the largest one included) could reach it there.
+  // In a periodic cell a particle near an edge also looks for neighbours around its images across
+  // that edge, when any neighbour (the largest one included) could reach it there.
   const double largest = cell.any() && n > 0 ? *std::max_element(r, r + n) : 0.0;
   for (int i = 0; i < n; ++i) {
-    const size_t first = out.size();
-    const double reach = r[i] + skin_;
+    if (!moved_[i]) continue;
+    const size_t first = found_.size();
+    const double ax = anchor_x_[i], ay = anchor_y_[i], reach = r[i] + skin_ + margin;
+    // A pair of two re-inserted particles is taken from its first particle's query only.
     auto accept = [&](int j) {
-      if (j <= i) return;
-      const Vec2 d = cell.minimum_image(x[j] - x[i], y[j] - y[i]);
-      const double rr = r[i] + r[j] + skin_;
-      if (d.x * d.x + d.y * d.y < rr * rr) out.push_back({i, j});
+      if (j > i)
+        found_.push_back({i, j});
+      else if (j < i && !moved_[j])
+        found_.push_back({j, i});
     };
-    const double across = reach + largest;
-    const int sx = cell.x ? (x[i] - across < cell.x0 ? 1 : x[i] + across >= cell.x1 ? -1 : 0) : 0;
-    const int sy = cell.y ? (y[i] - across < cell.y0 ? 1 : y[i] + across >= cell.y1 ? -1 : 0) : 0;
-    for (int ix = 0; ix <= (sx != 0); ++ix)
-      for (int iy = 0; iy <= (sy != 0); ++iy) {
-        const double ox = ix * sx * lx, oy = iy * sy * ly;
-        query(particles_, box(x[i] + ox - reach, y[i] + oy - reach, x[i] + ox + reach, y[i] + oy + reach), accept);
-      }
-    std::sort(out.begin() + first, out.end());
-    if (sx || sy) out.erase(std::unique(out.begin() + first, out.end()), out.end());
+    // Across every edge the query could reach a fat box over: in a narrow cell, both edges of an
+    // axis (one side only missed pairs of a small disc near a large one's far image).
+    const double across = reach + margin + largest;
+    double ox[3] = {0, 0, 0}, oy[3] = {0, 0, 0};
+    int images_x = 1, images_y = 1;
+    if (cell.x && ax - across < cell.x0) ox[images_x++] = lx;
+    if (cell.x && ax + across >= cell.x1) ox[images_x++] = -lx;
+    if (cell.y && ay - across < cell.y0) oy[images_y++] = ly;
+    if (cell.y && ay + across >= cell.y1) oy[images_y++] = -ly;
+    for (int ix = 0; ix < images_x; ++ix)
+      for (int iy = 0; iy < images_y; ++iy)
+        query(particles_, box(ax + ox[ix] - reach, ay + oy[iy] - reach, ax + ox[ix] + reach, ay + oy[iy] + reach),
+              accept);
+    std::sort(found_.begin() + first, found_.end());
+    if (images_x * images_y > 1) found_.erase(std::unique(found_.begin() + first, found_.end()), found_.end());
+  }
+  // When every particle was queried the pairs come sorted (each query's own, in the order of their
+  // first particles); else the few found from their second particle are out of place.
+  if (!std::is_sorted(found_.begin(), found_.end())) std::sort(found_.begin(), found_.end());
+  // The kept pairs (neither particle re-inserted) merged with the found ones, in place from the
+  // back: no third list, whose capacity would stay as large as the anchors' pairs.
+  const auto kept_end = std::remove_if(anchor_pairs_.begin(), anchor_pairs_.end(),
+                                       [&](const CandidatePair& p) { return moved_[p.i] || moved_[p.j]; });
+  const size_t kept = kept_end - anchor_pairs_.begin();
+  if (kept == 0) {  // every particle queried (the first build, a new skin): the found pairs are all
+    anchor_pairs_.swap(found_);
+    std::vector<CandidatePair>().swap(found_);  // a rebuild re-inserts a few: keep no large capacity
+  } else {
+    anchor_pairs_.resize(kept + found_.size());
+    for (size_t to = anchor_pairs_.size(), a = kept, f = found_.size(); f > 0;)
+      anchor_pairs_[--to] = a > 0 && found_[f - 1] < anchor_pairs_[a - 1] ? anchor_pairs_[--a] : found_[--f];
+  }
+  // The exact test, in double precision on the nearest images, without a branch on its outcome
+  // (a sixth pass it, in no order a predictor follows): each pair is written and kept or not.
+  out.clear();
+  const size_t total = anchor_pairs_.size();
+  constexpr size_t chunk = 256;
+  CandidatePair kept_pairs[chunk];
+  for (size_t begin = 0; begin < total; begin += chunk) {
+    const size_t end = std::min(total, begin + chunk);
+    size_t count = 0;
+    for (size_t q = begin; q < end; ++q) {
+      const CandidatePair p = anchor_pairs_[q];
+      const Vec2 d = cell.minimum_image(x[p.j] - x[p.i], y[p.j] - y[p.i]);
+      const double rr = r[p.i] + r[p.j] + skin_;
+      kept_pairs[count] = p;
+      count += d.x * d.x + d.y * d.y < rr * rr;
+    }
+    out.insert(out.end(), kept_pairs, kept_pairs + count);
   }
 }
 
