@@ -54,9 +54,7 @@ void Broadphase::particle_pairs(const double* x, const double* y, const double* 
   // Every particle counts as re-inserted when the tree is new, or the skin or the cell changed
   // (the kept pairs were found for those).
   const bool inserted = static_cast<int>(particle_proxy_.size()) != n;
-  const bool same_cell = cell.x == anchored_cell_.x && cell.y == anchored_cell_.y && cell.x0 == anchored_cell_.x0 &&
-                         cell.x1 == anchored_cell_.x1 && cell.y0 == anchored_cell_.y0 && cell.y1 == anchored_cell_.y1;
-  moved_.assign(n, inserted || skin_ != anchored_skin_ || !same_cell);
+  moved_.assign(n, inserted || skin_ != anchored_skin_ || !(cell == anchored_cell_));
   if (inserted) {
     for (int32 id : particle_proxy_) particles_.DestroyProxy(id);
     particle_proxy_.clear();

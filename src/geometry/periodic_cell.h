@@ -15,6 +15,7 @@ struct PeriodicCell {
   bool x = false, y = false;
   double x0 = 0, x1 = 0, y0 = 0, y1 = 0;  // m
   bool any() const { return x || y; }
+  bool operator==(const PeriodicCell&) const = default;
   double length_x() const { return x1 - x0; }
   double length_y() const { return y1 - y0; }
   // The separation d = p_j - p_i of the nearest images (exact when |d| < 3/2 L along a periodic axis).
