@@ -34,9 +34,11 @@ void VelocityVerlet::step() {
     }
   };
   work_before(v_half_.data(), h, kick_drift);
-  std::copy_n(z, nz, z_old_.data());
-  std::copy_n(zrate, nz, zrate_old_.data());
-  for (int k = 0; k < nz; ++k) z[k] += h * zrate_old_[k];
+  for (int k = 0; k < nz; ++k) {  // one pass: a thermal scene's z holds a temperature per particle
+    z_old_[k] = z[k];
+    zrate_old_[k] = zrate[k];
+    z[k] += h * zrate[k];
+  }
 
   const double t_next = next_time();
   evaluate(t_next, y_, 0);
@@ -46,16 +48,19 @@ void VelocityVerlet::step() {
     for (int k = begin; k < end; ++k) v[k] = v_half_[k] + 0.5 * h * a[k];
   };
   work_after(v, predicted_ ? v_half_.data() : v, h, kick);
+  // The slope just evaluated is at the predictor z* = z_n + h f_n, not at z_{n+1}. The next step's
+  // predictor would reuse it, which is stable only to half the explicit conduction limit (a
+  // two-step recurrence, measured on T4: unstable at 0.56 of 2/lambda). The stiff part is linear
+  // in z, so f(z_{n+1}) = f(z*) + J (z_{n+1} - z*) exactly: one Jacobian product makes the z
+  // update Heun's method, stable to 2/lambda as `kiln check` states. z_{n+1} - z* goes to dz_ in
+  // the pass that makes z_{n+1} (dz_ is zero but for its z block: only that block is ever written).
+  double* dz = slope_correction_ ? dz_.data() + 2 * nq : nullptr;
 #pragma omp parallel for schedule(static) if (parallel_worthwhile(nz))
-  for (int k = 0; k < nz; ++k) z[k] = z_old_[k] + 0.5 * h * (zrate_old_[k] + zrate[k]);
+  for (int k = 0; k < nz; ++k) {
+    z[k] = z_old_[k] + 0.5 * h * (zrate_old_[k] + zrate[k]);
+    if (dz) dz[k] = 0.5 * h * (zrate[k] - zrate_old_[k]);
+  }
   if (slope_correction_) {
-    // The slope just evaluated is at the predictor z_n + h f_n, not at z_{n+1}. The next step's
-    // predictor would reuse it, which is stable only to half the explicit conduction limit (a
-    // two-step recurrence, measured on T4: unstable at 0.56 of 2/lambda). The stiff part is linear
-    // in z, so f(z_{n+1}) = f(z*) + J (z_{n+1} - z*) exactly: one Jacobian product makes the z
-    // update Heun's method, stable to 2/lambda as `kiln check` states.
-    // (dz_ is zero but for its z block: only that block is ever written.)
-    for (int k = 0; k < nz; ++k) dz_[2 * nq + k] = 0.5 * h * (zrate[k] - zrate_old_[k]);
     if (!system_->latest_implicit_jacobian_times(dz_.data(), jdz_.data()))
       system_->implicit_jacobian_times(t_next, y_, dz_.data(), jdz_.data());
     for (int k = 0; k < nz; ++k) rate_[2 * nq + k] += jdz_[2 * nq + k];

@@ -22,11 +22,10 @@ struct ContactRow {
   double gx = 0, gy = 0;              // friction's work force on i: F_t (n_y, -n_x) (N)
   double dx = 0, dy = 0;              // the dashpot's work force on i: F_dashpot n (N)
 };
-// Heat rows of a thermal scene: the heat that reaches i and j through the contact (W), made by
-// its dissipation or (full evaluations) conducted, and (full evaluations) its conductance (W/K),
-// which gives conduction's Jacobian at that state without the geometry again.
+// Heat rows of a threaded thermal evaluation: the heat that reaches i and j through the contact
+// (W), made by its dissipation or (full evaluations) conducted.
 struct HeatRow {
-  double to_i = 0, to_j = 0, conductance = 0;
+  double to_i = 0, to_j = 0;
 };
 
 // A list's arrays as raw pointers, taken once per block of contacts by the contact loops: read
@@ -63,6 +62,10 @@ struct ContactList {
   // particle list, those where it is j are by_j_rows[by_j[k] .. by_j[k + 1]), in ascending order.
   std::vector<ContactRow> rows;
   std::vector<HeatRow> heat_rows;
+  // Each candidate's conductance (W/K, 0 when not touching) at the latest full thermal evaluation:
+  // conduction's Jacobian at that state without the geometry again. Apart from the heat rows, which
+  // one thread never stores: the Jacobian reads 8 bytes per candidate, not a row of 24.
+  std::vector<double> conductance;
   std::vector<int> by_i, by_j, by_j_rows;
 
   int size() const { return static_cast<int>(i.size()); }

@@ -209,7 +209,7 @@ void DemSystem::accept(double) {
 void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, const double* temps) {
   if (part == Part::implicit_only || part == Part::jacobian) {
     implicit_conduction(t, y, ydot, temps, part == Part::implicit_only);
-    latest_conducted_ = false;  // the heat rows are still the full evaluation's, but not its state's
+    latest_conducted_ = false;  // the conductances are still the full evaluation's, but not its state's
     return;
   }
   Evaluation e = begin_evaluation(t, y, ydot);
@@ -217,7 +217,10 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
   particle_contact_forces(e);
   if (e.threaded) rows_to_particles(e);
   wall_contact_forces(e);
-  if (e.conduct) e.heat_walls = conduct_walls(t, y, y + temperature_at(), e.heat, true, pw_.heat_rows.data());
+  if (e.conduct) {
+    pw_.conductance.resize(pw_.size());
+    e.heat_walls = conduct_walls(t, y, y + temperature_at(), e.heat, true, pw_.conductance.data());
+  }
   latest_conducted_ = e.conduct;
   if (has_attached_ || bodies()) {
     const StageTimer timer(profile_, Stage::wall_contacts);  // what the walls' particles and bodies do

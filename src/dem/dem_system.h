@@ -365,7 +365,7 @@ class DemSystem final : public OdeSystem {
                           int p, int& wall) const;
   double conduct(double t, const double* y, const double* temp, double* heat, bool wall_sources) const;
   double conduct_walls(double t, const double* y, const double* temp, double* heat, bool wall_sources,
-                       HeatRow* rows = nullptr) const;
+                       double* conductance = nullptr) const;
 
   const Scene& scene_;
   const PeriodicCell& cell_;
@@ -399,7 +399,7 @@ class DemSystem final : public OdeSystem {
   std::vector<double> work_force_;  // see work_components(), from the latest evaluation
   std::vector<BlockSums> block_sums_;  // the particle contacts stage's, per block
   std::vector<ParticleKinematics> kinematics_;  // the particle contacts stage's, per particle
-  bool latest_conducted_ = false;      // the latest evaluation was full: its heat rows hold conductances
+  bool latest_conducted_ = false;      // the latest evaluation was full: the lists hold its conductances
   int works_ = 2;
   double max_overlap_fraction_ = 0;
   std::vector<WallLoad> wall_loads_;

@@ -46,15 +46,15 @@ double DemSystem::conduct(double t, const double* y, const double* temp, double*
 }
 
 // The walls' part of conduct(): heat[i] += sum_w H_iw (T_w - T_i); returns the heat the walls give.
-// With `rows`, each candidate's conductance goes to its heat row (0 when not touching).
+// With `conductance`, each candidate's goes there (0 when not touching).
 double DemSystem::conduct_walls(double t, const double* y, const double* temp, double* heat, bool wall_sources,
-                                HeatRow* rows) const {
+                                double* conductance) const {
   const double *px = y + x_at(), *py = y + y_at();
   double heat_walls = 0;
   for (int p = 0, np = pw_.size(); p < np; ++p) {
     int wall = 0;
     const double h = wall_conductance(px, py, seg_a_, seg_b_, p, wall);
-    if (rows) rows[p].conductance = h;
+    if (conductance) conductance[p] = h;
     if (h == 0) continue;
     const double q = h * ((wall_sources ? scene_.walls[wall].temperature.at(t) : 0.0) - temp[pw_.i[p]]);
     heat[pw_.i[p]] += q;
@@ -64,22 +64,24 @@ double DemSystem::conduct_walls(double t, const double* y, const double* temp, d
 }
 
 
-// Conduction's Jacobian at the latest full evaluation, from the conductances it left in the heat
-// rows: jv's temperatures and heat-from-walls ledger entry (the rest of jv is not touched).
+// Conduction's Jacobian at the latest full evaluation, from the conductances it left per
+// candidate: jv's temperatures and heat-from-walls ledger entry (the rest of jv is not touched).
 bool DemSystem::latest_implicit_jacobian_times(const double* v, double* jv) {
   if (!latest_conducted_) return false;
   const double* temps = v + temperature_at();
   double* heat = jv + temperature_at();
   std::fill_n(heat, n_, 0.0);
+  const int *pi = pp_.i.data(), *pj = pp_.j.data();
+  const double* h = pp_.conductance.data();
   for (int p = 0, np = pp_.size(); p < np; ++p) {
-    const int i = pp_.i[p], j = pp_.j[p];
-    const double q = pp_.heat_rows[p].conductance * (temps[j] - temps[i]);
+    const int i = pi[p], j = pj[p];
+    const double q = h[p] * (temps[j] - temps[i]);
     heat[i] += q;
     heat[j] -= q;
   }
   double heat_walls = 0;
   for (int p = 0, np = pw_.size(); p < np; ++p) {
-    const double q = -pw_.heat_rows[p].conductance * temps[pw_.i[p]];
+    const double q = -pw_.conductance[p] * temps[pw_.i[p]];
     heat[pw_.i[p]] += q;
     heat_walls += q;
   }

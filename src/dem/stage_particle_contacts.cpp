@@ -6,7 +6,8 @@
 // (no row is stored); on several, each contact writes its own row and rows_to_particles() adds
 // them per particle in that same order. The scalar sums are taken over fixed blocks of contacts in
 // order either way. In a thermal scene's full evaluation the row also carries the heat conducted
-// through the contact: the geometry is computed once for both.
+// through the contact, and the contact's conductance is kept for conduction's Jacobian: the
+// geometry is computed once for all.
 //
 // The loop is compiled for each normal model, for lists with and without history, for one thread
 // or several, and for what the scene adds (PairExtras: nothing, heat, or heat, contact events and
@@ -38,6 +39,15 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
     const ParticleKinematics* kin = kinematics_.data();
     const ContactArrays list = pp_.arrays();
     const ParticleSums to = particle_sums(e);
+    HeatRow* heat_rows = pp_.heat_rows.data();
+    double* conductance = pp_.conductance.data();
+    // A contact's heat: its row on several threads, added to its two particles on one.
+    auto book_heat = [&](int p, int i, int j, const HeatRow& heat) {
+      if constexpr (Threaded)
+        heat_rows[p] = heat;
+      else
+        add_heat_row(to, i, j, heat);
+    };
     BlockSums sums;
     // First the geometry of every candidate, without a branch on whether it touches (a third do
     // not, in an order no branch predictor follows): its separation, distance and inverse
@@ -66,12 +76,13 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
       acting_count += acting;
       idle_count += !acting;
     }
-    // What a candidate that does not act leaves: no history, a zero row.
+    // What a candidate that does not act leaves: no history, a zero row, no conductance.
     for (int a = 0; a < idle_count; ++a) {
       const int p = begin + idle_list[a];
       if (History && list.history) forget(list, p);
       if constexpr (Threaded) pp_.rows[p] = {};
-      if (thermal) pp_.heat_rows[p] = {};
+      if (Threaded && thermal) heat_rows[p] = {};
+      if (temp) conductance[p] = 0;
     }
     // Then the contacts that act.
     for (int a = 0; a < acting_count; ++a) {
@@ -85,7 +96,7 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
       if (walls_both) {
         if (History && list.history) forget(list, p);
         if constexpr (Threaded) pp_.rows[p] = {};
-        if (thermal) pp_.heat_rows[p] = {};
+        if (Threaded && thermal) heat_rows[p] = {};
         if (!temp) continue;
       }
       const double dist = dist_of[k];
@@ -95,10 +106,10 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
       if (temp) {
         const double h = touching_conductance(list.law[p], list.k[p], list.c[p], pi.r, pj.r, dist, overlap);
         const double q = h * (temp[j] - temp[i]);
-        heat = {q, -q, h};
+        heat = {q, -q};
+        conductance[p] = h;
         if (walls_both) {
-          pp_.heat_rows[p] = heat;
-          if constexpr (!Threaded) add_heat_row(to, i, j, heat);
+          book_heat(p, i, j, heat);
           continue;
         }
       }
@@ -141,9 +152,8 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
         const double share = laws_[list.law[p]].heat_share;
         heat.to_i += share * made;
         heat.to_j += (1 - share) * made;
-        pp_.heat_rows[p] = heat;
         sums.heat_generated += made;
-        if constexpr (!Threaded) add_heat_row(to, i, j, heat);
+        book_heat(p, i, j, heat);
       }
       sums.worst = std::max(sums.worst, c.overlap * std::max(pi.inv_r, pj.inv_r));
     }
@@ -178,7 +188,8 @@ void DemSystem::particle_contact_forces(Evaluation& e) {
   const StageTimer timer(profile_, Stage::particle_contacts);
   prepare_particles(e);
   if (e.threaded) pp_.rows.resize(pp_.size());
-  if (e.heat) pp_.heat_rows.resize(pp_.size());
+  if (e.heat && e.threaded) pp_.heat_rows.resize(pp_.size());
+  if (e.conduct) pp_.conductance.resize(pp_.size());
   const PairExtras extras = events_ || has_attached_ ? PairExtras::any : e.heat ? PairExtras::heat : PairExtras::none;
   auto with_extras = [&](auto threaded, auto history, auto model) {
     using M = typename decltype(model)::type;

@@ -16,7 +16,6 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
   const bool history = pp_.history;
   for (WallLoad& load : wall_loads_) load = {};
   const bool thermal = e.heat != nullptr;
-  if (thermal) pw_.heat_rows.resize(pw_.size());
   const ContactArrays list = pw_.arrays();
   const ParticleSums sums = particle_sums(e);
   for (int p = 0, np = pw_.size(); p < np; ++p) {
@@ -26,7 +25,6 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     // An attached particle is part of a wall: walls do not touch walls.
     if ((events_ && !pw_.active[p]) || attached(i) || !wall_hit(e.x, e.y, seg_a_, seg_b_, i, sgi, hit, events_)) {
       if (history) forget(list, p);
-      if (thermal) pw_.heat_rows[p] = {};
       continue;
     }
     const Vec2 n = hit.normal;
@@ -74,8 +72,7 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     load.power += power;
     if (thermal) {  // the wall keeps its share
       const double made = laws_[pw_.law[p]].heat_share * heat_made(f.work_rate, f.damping_power);
-      pw_.heat_rows[p] = {made, 0.0, 0.0};
-      add_heat_row(sums, i, -1, pw_.heat_rows[p]);
+      add_heat_row(sums, i, -1, {made, 0.0});
       e.heat_generated += made;
     }
     e.worst = std::max(e.worst, hit.overlap * inv_radius_[i]);
