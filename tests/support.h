@@ -107,6 +107,27 @@ inline std::vector<double> read_dataset(const std::filesystem::path& file, const
 }
 
 // The Verlet schemes (the catalogue also lists ARKODE methods and aliases).
+// 9,000 rough, pressed discs in a cell periodic in x on a floor with friction and rolling
+// resistance, moving a little; hot (a hot and a cold half, dashpot and friction heat, conduction)
+// or cold. Large enough that every threaded loop runs in parallel and that the contact loop's
+// particle order matters (more than 4,096 discs: DemSystem::reorder_slots()).
+inline std::string pressed_pile(bool hot) {
+  std::ostringstream s;
+  s << "name: pressed_pile\nmass_model: sphere\ngravity: [0, -9.81]\nallow_overlap: true\n"
+    << (hot ? "heat_from_dissipation: all\n" : "")
+    << "materials:\n  grain: {density: 2500, stiffness: 10000, restitution: 0.5, friction: 0.5, "
+       "rolling_friction: 0.1" << (hot ? ", specific_heat: 840, conductivity: 2" : "") << "}\n"
+    << "particles:\n  - material: grain\n    radius: {uniform: [0.00095, 0.00105]}\n"
+    << (hot ? "    temperature: {left: 100, right: 0, x_split: 0.146}\n" : "")
+    << "    random_velocity: {max: 0.05, seed: 4}\n"
+    << "    lattice: {kind: hexagonal, origin: [0.0005, 0.0012], spacing: 0.00195, rows: 60, columns: 150, "
+       "jitter: 0.00002, seed: 3}\n"
+    << "periodic: {x: [0, 0.2925]}\n"
+    << "walls:\n  - {material: grain, polyline: [[-1, 0], [1.3, 0]]}\n"
+    << "integrator: velocity-verlet\ndt: 1.0e-6\nt_end: 1\n";
+  return s.str();
+}
+
 inline std::vector<std::string> verlet_family() { return {"verlet", "velocity-verlet", "velocity-verlet-predicted"}; }
 
 // Observed order from errors at step sizes h and h/2.

@@ -167,13 +167,15 @@ int time_pile(const std::string& path, const BenchOptions& o) {
               model, o.integrator.c_str(), n, path.c_str(), x0, x1, steps, scene.dt, o.warmup, frame_every);
   std::printf("  loop time %.3f s, %.3g particle-steps/s (%.1f ns per particle-step), %.2f right-hand sides per step, peak RSS %.1f MB\n",
               loop, rate, 1e9 / rate, double(rhs) / steps, rss);
-  std::printf("  %.3f contacts per disc (particle-particle, at both ends, at the end), %.3f with the floor; %ld neighbour rebuilds while timed, %.0f ns per disc each\n",
-              per_disc, floor_per_disc, rebuilds, rebuild_ns);
+  const long reorders = summary.at("curve_reorders");
+  std::printf("  %.3f contacts per disc (particle-particle, at both ends, at the end), %.3f with the floor; %ld neighbour rebuilds while timed, %.0f ns per disc each; "
+              "particle order ranked along the curve %ld times in the run\n",
+              per_disc, floor_per_disc, rebuilds, rebuild_ns, reorders);
   std::printf("kiln-bench: n=%d steps=%ld warmup=%ld integrator=%s model=%s loop_s=%.6f particle_steps_per_s=%.6g "
               "ns_per_particle_step=%.4f rhs_evals=%ld s_per_rhs=%.6g s_per_step=%.6g peak_rss_mb=%.2f "
-              "contacts_per_disc=%.4f wall_contacts_per_disc=%.4f rebuilds=%ld rebuild_ns_per_disc=%.1f\n",
+              "contacts_per_disc=%.4f wall_contacts_per_disc=%.4f rebuilds=%ld rebuild_ns_per_disc=%.1f curve_reorders=%ld\n",
               n, steps, o.warmup, o.integrator.c_str(), model, loop, rate, 1e9 / rate, rhs, rhs > 0 ? loop / rhs : 0.0,
-              loop / steps, rss, per_disc, floor_per_disc, rebuilds, rebuild_ns);
+              loop / steps, rss, per_disc, floor_per_disc, rebuilds, rebuild_ns, reorders);
   return exit_success;
 }
 

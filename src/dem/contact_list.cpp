@@ -1,9 +1,33 @@
 #include "src/dem/contact_list.h"
 
+#include <algorithm>
+
 namespace kiln {
 
-void ContactList::replace(const std::vector<CandidatePair>& fresh, int particles, bool pairs) {
-  const size_t n = fresh.size();
+namespace {
+
+// A candidate's place in a list's order: its lower and higher slot (a wall pair: its particle's
+// slot and its segment) in one integer.
+uint64_t order_key(int a, int b) { return (static_cast<uint64_t>(static_cast<uint32_t>(a)) << 32) | static_cast<uint32_t>(b); }
+
+}  // namespace
+
+void ContactList::replace(const std::vector<CandidatePair>& fresh, int particles, bool pairs, const int* at,
+                          const int* slot) {
+  const size_t n = fresh.size(), kept = i.size();
+  // The kept pairs' keys under the slots of now, and the order to walk them in: their own, unless
+  // the slots changed since they were found.
+  std::vector<uint64_t>& keys = scratch_keys;
+  std::vector<int>& walk = scratch_walk;
+  keys.resize(kept);
+  walk.resize(kept);
+  for (size_t o = 0; o < kept; ++o) {
+    const int a = slot[i[o]], b = pairs ? slot[j[o]] : j[o];
+    keys[o] = pairs && b < a ? order_key(b, a) : order_key(a, b);
+    walk[o] = static_cast<int>(o);
+  }
+  if (!std::is_sorted(keys.begin(), keys.end()))
+    std::sort(walk.begin(), walk.end(), [&](int u, int v) { return keys[u] < keys[v]; });
   // The merge writes into the trial arrays (copied from the committed ones below anyway) and a
   // scratch array kept for the next rebuild: once the lists have reached their size, rebuilds
   // allocate nothing (freed and reallocated blocks grew a 100,000-disc run's peak by a third).
@@ -15,12 +39,13 @@ void ContactList::replace(const std::vector<CandidatePair>& fresh, int particles
   kept_spring.assign(history ? n : 0, 0.0);
   kept_roll.assign(rolling ? n : 0, 0.0);
   kept_frame.assign(history ? n : 0, {});
-  size_t old = 0;
+  size_t w = 0;
   for (size_t p = 0; p < n; ++p) {
-    const CandidatePair want = fresh[p];
-    while (old < i.size() && (CandidatePair{i[old], j[old]} < want)) ++old;
-    if (old < i.size() && i[old] == want.i && j[old] == want.j) {
-      if (old < active.size()) kept_active[p] = active[old];
+    const uint64_t want = order_key(fresh[p].i, fresh[p].j);
+    while (w < kept && keys[walk[w]] < want) ++w;
+    if (w < kept && keys[walk[w]] == want) {
+      const int old = walk[w];
+      if (old < static_cast<int>(active.size())) kept_active[p] = active[old];
       if (history) {
         kept_spring[p] = spring[old];
         if (rolling) kept_roll[p] = roll[old];
@@ -32,8 +57,10 @@ void ContactList::replace(const std::vector<CandidatePair>& fresh, int particles
   i.resize(n);
   j.resize(n);
   for (size_t p = 0; p < n; ++p) {
-    i[p] = fresh[p].i;
-    j[p] = fresh[p].j;
+    // A pair's particles in index order, whatever their slots: its springs and frame are i's.
+    const int a = at[fresh[p].i], b = pairs ? at[fresh[p].j] : fresh[p].j;
+    i[p] = pairs ? std::min(a, b) : a;
+    j[p] = pairs ? std::max(a, b) : b;
   }
   spring.swap(kept_spring);
   roll.swap(kept_roll);
@@ -44,23 +71,36 @@ void ContactList::replace(const std::vector<CandidatePair>& fresh, int particles
   k.resize(n);
   c.resize(n);
   law.resize(n);
+  place(slot, pairs);
   index(particles, pairs);
+}
+
+void ContactList::place(const int* slot, bool pairs) {
+  const size_t n = i.size();
+  si.resize(n);
+  sj.resize(n);
+  for (size_t p = 0; p < n; ++p) {
+    si[p] = slot[i[p]];
+    sj[p] = pairs ? slot[j[p]] : -1;
+  }
 }
 
 void ContactList::index(int particles, bool pairs) {
   const size_t n = i.size();
   if (!rows.empty()) rows.resize(n);
-  // Where each particle's rows are: counting sorts by i (already in order) and by j.
+  // Where each slot's rows are: counting sorts by the lower slot (already in order) and by the
+  // higher.
+  auto lower = [&](size_t p) { return pairs ? std::min(si[p], sj[p]) : si[p]; };
   by_i.assign(particles + 1, 0);
-  for (size_t p = 0; p < n; ++p) ++by_i[i[p] + 1];
+  for (size_t p = 0; p < n; ++p) ++by_i[lower(p) + 1];
   for (int q = 0; q < particles; ++q) by_i[q + 1] += by_i[q];
   by_j.assign(pairs ? particles + 1 : 0, 0);
   by_j_rows.resize(pairs ? n : 0);
   if (!pairs) return;
-  for (size_t p = 0; p < n; ++p) ++by_j[j[p] + 1];
+  for (size_t p = 0; p < n; ++p) ++by_j[std::max(si[p], sj[p]) + 1];
   for (int q = 0; q < particles; ++q) by_j[q + 1] += by_j[q];
   scratch_next.assign(by_j.begin(), by_j.end() - 1);
-  for (size_t p = 0; p < n; ++p) by_j_rows[scratch_next[j[p]]++] = static_cast<int>(p);
+  for (size_t p = 0; p < n; ++p) by_j_rows[scratch_next[std::max(si[p], sj[p])]++] = static_cast<int>(p);
 }
 
 namespace {

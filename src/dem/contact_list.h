@@ -33,6 +33,7 @@ struct HeatRow {
 // doubles might have changed them, for all the compiler knew), and spilled registers with it.
 struct ContactArrays {
   const int *i, *j;
+  const int *si, *sj;  // their slots
   const double *k, *c;
   const uint16_t* law;
   bool history, rolling;
@@ -44,6 +45,9 @@ struct ContactArrays {
 
 struct ContactList {
   std::vector<int> i, j;        // particle i; particle j (i < j) or segment j
+  // The slots of i and j (DemSystem::slot_; a wall list's sj is -1). The list is sorted by its
+  // pairs' slots: the lower then the higher (a wall list: i's slot, then the segment).
+  std::vector<int> si, sj;
   std::vector<double> k, c;     // normal law coefficients for this pair (k_t, c_t are fixed ratios)
   std::vector<uint16_t> law;    // material-pair index (friction, rolling, law flags)
   std::vector<uint8_t> active;  // contact events: acting within the current step (2: not yet known)
@@ -57,9 +61,10 @@ struct ContactList {
   std::vector<contact::ContactFrame> frame, trial_frame;
 
   // Rows of the latest threaded evaluation (one per candidate; empty until one runs) and heat rows
-  // of the latest thermal one, and where each particle finds its rows:
-  // those where it is i are the range [by_i[k], by_i[k + 1]) (the list is sorted by i); for a
-  // particle list, those where it is j are by_j_rows[by_j[k] .. by_j[k + 1]), in ascending order.
+  // of the latest thermal one, and where the particle at each slot k finds its rows: those where
+  // its slot is the pair's lower one are the range [by_i[k], by_i[k + 1]) (the list is sorted by
+  // it); for a particle list, those where it is the higher are by_j_rows[by_j[k] .. by_j[k + 1]),
+  // in ascending order.
   std::vector<ContactRow> rows;
   std::vector<HeatRow> heat_rows;
   // Each candidate's conductance (W/K, 0 when not touching) at the latest full thermal evaluation:
@@ -70,18 +75,25 @@ struct ContactList {
 
   int size() const { return static_cast<int>(i.size()); }
   ContactArrays arrays() {
-    return {i.data(),      j.data(),    k.data(),     c.data(),          law.data(),        history, rolling,
-            spring.data(), roll.data(), frame.data(), trial.data(), trial_roll.data(), trial_frame.data()};
+    return {i.data(),      j.data(),      si.data(),     sj.data(),     k.data(),          c.data(),
+            law.data(),    history,       rolling,       spring.data(), roll.data(),       frame.data(),
+            trial.data(),  trial_roll.data(), trial_frame.data()};
   }
-  // Takes the sorted candidate pairs of `particles` particles; pairs present before keep their
-  // committed history. `pairs`: j is a particle (indexed by_j too), not a wall segment.
-  void replace(const std::vector<CandidatePair>& fresh, int particles, bool pairs);
-  // Sizes the rows and finds each particle's rows (after replace() or restore()).
+  // Takes the candidates of `particles` particles as the broadphase found them among the places
+  // in slot order: pairs of slots (a < b), or (slot, segment), sorted. `at[s]` is the particle at
+  // slot s, `slot` its inverse. Pairs present before keep their committed history, also when the
+  // slots changed since (the kept list is then walked in the new slots' order).
+  // `pairs`: j is a particle (indexed by_j too), not a wall segment.
+  void replace(const std::vector<CandidatePair>& fresh, int particles, bool pairs, const int* at, const int* slot);
+  // si and sj from i and j (after restore(), with the slots it restored).
+  void place(const int* slot, bool pairs);
+  // Sizes the rows and finds each slot's rows (after replace() or restore()).
   void index(int particles, bool pairs);
   // Checkpoints: the pairs, their coefficients and their history.
   void state(SnapshotFields& f);
   std::vector<uint8_t> scratch_active;  // replace()'s and index()'s, kept: no allocation per rebuild
-  std::vector<int> scratch_next;
+  std::vector<int> scratch_next, scratch_walk;
+  std::vector<uint64_t> scratch_keys;
   void commit() {
     spring.swap(trial);
     roll.swap(trial_roll);

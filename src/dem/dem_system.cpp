@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 
 #include "src/base/error.h"
 #include "src/base/parallel.h"
@@ -108,6 +109,9 @@ DemSystem::DemSystem(const Scene& scene)
   work_force_.assign(works_ * layout_.nq, 0.0);
   x_ref_.resize(n_);
   y_ref_.resize(n_);
+  slot_.resize(n_);
+  std::iota(slot_.begin(), slot_.end(), 0);
+  particle_at_ = slot_;
   wall_loads_.resize(scene.walls.size());
   update_walls(0, nullptr);
 }
@@ -179,11 +183,12 @@ void DemSystem::state(SnapshotFields& f) {
   f.field("reference_y", y_ref_);
   double skin = broadphase_.skin();
   f.reals("times", t_ref_, committed_time_, trial_time_, skin, max_overlap_fraction_);
-  f.integers("counts", built_, rebuilds_);
+  f.integers("counts", built_, rebuilds_, reorders_);
   f.field("committed_angle", committed_angle_);
   f.field("trial_angle", trial_angle_);
   f.field("work_force", work_force_);
   f.field("body_reference", body_ref_);
+  f.field("particle_at_slot", particle_at_);
   if (f.saving()) return;
   broadphase_.set_skin(skin);
   if (static_cast<int>(x_ref_.size()) != n_ || pp_.k.size() != pp_.i.size() || pw_.k.size() != pw_.i.size())
@@ -192,6 +197,15 @@ void DemSystem::state(SnapshotFields& f) {
   if (!within(pp_.i, n_) || !within(pp_.j, n_) || !within(pw_.i, n_) ||
       !within(pw_.j, static_cast<int>(scene_.segments.size())))
     throw InputError("the checkpoint's contacts name particles or wall segments this scene does not have");
+  std::vector<int> order = particle_at_;
+  std::sort(order.begin(), order.end());
+  bool permutation = static_cast<int>(order.size()) == n_;
+  for (int s = 0; permutation && s < n_; ++s) permutation = order[s] == s;
+  if (!permutation)
+    throw InputError("the checkpoint's particle order is not an order of this scene's " + std::to_string(n_) + " particles");
+  for (int s = 0; s < n_; ++s) slot_[particle_at_[s]] = s;
+  pp_.place(slot_.data(), true);
+  pw_.place(slot_.data(), false);
   pp_.index(n_, true);
   pw_.index(n_, false);
 }
@@ -219,7 +233,8 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
   wall_contact_forces(e);
   if (e.conduct) {
     pw_.conductance.resize(pw_.size());
-    e.heat_walls = conduct_walls(t, y, y + temperature_at(), e.heat, true, pw_.conductance.data());
+    e.heat_walls =
+        conduct_walls(t, y, y + temperature_at(), {nullptr, sums_.data(), slot_.data()}, true, pw_.conductance.data());
   }
   latest_conducted_ = e.conduct;
   if (has_attached_ || bodies()) {
@@ -265,17 +280,26 @@ DemSystem::Evaluation DemSystem::begin_evaluation(double t, const double* y, dou
   return e;
 }
 
+// Each particle's sums, from its slot, to its acceleration (gravity added), its work forces and
+// its rate of temperature change.
 void DemSystem::accelerations(Evaluation& e) {
   const double gx = scene_.gravity.x, gy = scene_.gravity.y;
+  const ParticleSum* sums = sums_.data();
+  const int* slot = slot_.data();
 #pragma omp parallel for schedule(static) if (parallel_worthwhile(n_))
   for (int i = 0; i < n_; ++i) {
-    e.fx[i] = e.fx[i] * inv_mass_[i] + gx;
-    e.fy[i] = e.fy[i] * inv_mass_[i] + gy;
+    const ParticleSum& s = sums[slot[i]];
+    e.fx[i] = s.fx * inv_mass_[i] + gx;
+    e.fy[i] = s.fy * inv_mass_[i] + gy;
+    e.gd[i] = s.dx;
+    e.gd[n_ + i] = s.dy;
+    e.g[i] = s.gx;
+    e.g[n_ + i] = s.gy;
     if (e.torque) {
-      e.g[2 * n_ + i] = -e.torque[i];  // every contact torque is friction's or rolling resistance's: that ledger's
-      e.torque[i] *= inv_inertia_[i];
+      e.g[2 * n_ + i] = -s.torque;  // every contact torque is friction's or rolling resistance's: that ledger's
+      e.torque[i] = s.torque * inv_inertia_[i];
     }
-    if (e.heat) e.heat[i] *= inv_capacity_[i];
+    if (e.heat) e.heat[i] = s.heat * inv_capacity_[i];
   }
   // An attached particle follows its wall: no spin change, the wall's acceleration at its place
   // (a turning wall's centripetal one, a wall body's own).
@@ -297,8 +321,9 @@ void DemSystem::accelerations(Evaluation& e) {
 // power they take from the particles pushing them is the walls' work.
 void DemSystem::attached_particles(Evaluation& e) {
   for (int i : attached_list_) {
-    const Vec2 f{e.fx[i], e.fy[i]};
-    const double torque = e.torque ? e.torque[i] : 0.0;
+    const ParticleSum& s = sums_[slot_[i]];
+    const Vec2 f{s.fx, s.fy};
+    const double torque = e.torque ? s.torque : 0.0;
     e.walls_work -= f.x * e.vx[i] + f.y * e.vy[i] + (e.torque ? torque * e.w[i] : 0.0);
     e.gw[i] -= f.x;
     e.gw[n_ + i] -= f.y;

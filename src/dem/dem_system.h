@@ -163,6 +163,8 @@ class DemSystem final : public OdeSystem {
   // Largest overlap / smaller radius seen at the latest evaluation.
   double max_overlap_fraction() const { return max_overlap_fraction_; }
   long rebuilds() const { return rebuilds_; }
+  // How often the particles were ranked along the curve (see slot_).
+  long reorders() const { return reorders_; }
   double skin() const { return broadphase_.skin(); }
   const ContactList& particle_contacts() const { return pp_; }
   const ContactList& wall_contacts() const { return pw_; }
@@ -195,8 +197,8 @@ class DemSystem final : public OdeSystem {
     double t = 0;
     const double* state;
     const double *x, *y, *angle, *vx, *vy, *w;  // state fields (angle, w null without rotation)
-    double *fx, *fy, *torque;                    // forces, then accelerations (torque null likewise)
-    double* heat = nullptr;                      // thermal scenes: heat flow, then dT/dt
+    double *fx, *fy, *torque;                    // accelerations (torque null likewise); sums_ has the forces
+    double* heat = nullptr;                      // thermal scenes: dT/dt
     double *gd = nullptr, *g = nullptr;          // work forces of the damping and friction ledgers
     double* gw = nullptr;                        // ... and of the walls' (wall bodies, attached particles)
     double damping = 0, friction_work = 0, walls_work = 0, heat_generated = 0, heat_walls = 0;
@@ -230,56 +232,63 @@ class DemSystem final : public OdeSystem {
   // What a particle contact reads of its two particles, packed per particle (one cache line) at
   // the start of the stage: the contact loop then holds one pointer for them instead of eight,
   // and its working values stay in registers instead of going through the stack. Without
-  // rotation w and spun are 0. prepare_particles() packs them and, on one thread, zeroes the sums
-  // the contact stages add to (threaded, rows_to_particles() sets them), in one pass.
+  // rotation w and spun are 0. prepare_particles() packs them, each particle at its slot (see
+  // slot_), and, on one thread, zeroes the sums the contact stages add to (threaded,
+  // rows_to_particles() sets them).
   struct ParticleKinematics {
     double x, y, vx, vy;
     double w, spun;  // spin (rad/s), angle turned since the committed state (rad)
     double r, inv_r;
   };
   void prepare_particles(const Evaluation& e);
-  // The particles' sums the contacts add to, as raw pointers (see ContactArrays): forces, torques
-  // (null without rotation), the dashpots' and friction's work forces, heat (null without heat).
-  struct ParticleSums {
-    double *fx, *fy, *torque, *dx, *dy, *gx, *gy, *heat;
+  // What the contacts add to a particle, at its slot, one cache line: force, torque, the dashpots'
+  // and friction's work forces, heat. Particles without rotation or heat add zeros there.
+  // accelerations() takes them to the evaluation's arrays.
+  struct ParticleSum {
+    double fx, fy, torque, dx, dy, gx, gy, heat;
   };
-  ParticleSums particle_sums(const Evaluation& e) const {
-    return {e.fx, e.fy, e.torque, e.gd, e.gd + n_, e.g, e.g + n_, e.heat};
+  // A contact's row added to the sums of the particles at slots a and b (b < 0: a wall), heat
+  // rows likewise: on one thread, in the order of the lists, the additions rows_to_particles()
+  // makes.
+  static void add_row(ParticleSum* s, int a, int b, const ContactRow& r) {
+    ParticleSum& si = s[a];
+    si.fx += r.fx;
+    si.fy += r.fy;
+    si.dx += r.dx;
+    si.dy += r.dy;
+    si.gx += r.gx;
+    si.gy += r.gy;
+    si.torque += r.torque_i;
+    if (b < 0) return;
+    ParticleSum& sj = s[b];
+    sj.fx -= r.fx;
+    sj.fy -= r.fy;
+    sj.dx -= r.dx;
+    sj.dy -= r.dy;
+    sj.gx -= r.gx;
+    sj.gy -= r.gy;
+    sj.torque += r.torque_j;
   }
-  // A contact's row added to its particles' sums (j < 0: a wall), heat rows likewise: on one
-  // thread, in the order of the lists, the additions rows_to_particles() makes.
-  static void add_row(const ParticleSums& s, int i, int j, const ContactRow& r) {
-    s.fx[i] += r.fx;
-    s.fy[i] += r.fy;
-    s.dx[i] += r.dx;
-    s.dy[i] += r.dy;
-    s.gx[i] += r.gx;
-    s.gy[i] += r.gy;
-    if (s.torque) s.torque[i] += r.torque_i;
-    if (j < 0) return;
-    s.fx[j] -= r.fx;
-    s.fy[j] -= r.fy;
-    s.dx[j] -= r.dx;
-    s.dy[j] -= r.dy;
-    s.gx[j] -= r.gx;
-    s.gy[j] -= r.gy;
-    if (s.torque) s.torque[j] += r.torque_j;
-  }
-  static void add_heat_row(const ParticleSums& s, int i, int j, const HeatRow& h) {
-    s.heat[i] += h.to_i;
-    if (j >= 0) s.heat[j] += h.to_j;
+  static void add_heat_row(ParticleSum* s, int a, int b, const HeatRow& h) {
+    s[a].heat += h.to_i;
+    if (b >= 0) s[b].heat += h.to_j;
   }
   void wall_contact_forces(Evaluation& e);  // stage_wall_contacts.cpp
   void rows_to_particles(Evaluation& e);    // stage_contact_sums.cpp (threaded evaluations)
   void attached_particles(Evaluation& e);       // what pushes them pushes their walls
   void wall_bodies(Evaluation& e, double* ydot);  // load-controlled walls under their loads
-  void accelerations(Evaluation& e);            // forces to accelerations, gravity
+  void accelerations(Evaluation& e);            // the sums to accelerations (gravity) and work forces
   void close_ledger(const Evaluation& e, double* ydot);
   void implicit_conduction(double t, const double* y, double* ydot, const double* temps, bool wall_sources);
 
   // Neighbour update (neighbour_update.cpp): new candidate lists at (t, y) with a skin of at
   // least `skin` (the base skin otherwise).
   void rebuild(double t, const double* y, double skin = 0);
+  // The places the tree sees (wrapped into the cell) and the radii, in slot order.
+  void places_by_slot(const double* px, const double* py);
+  // Ranks the particles along a Hilbert curve of their places when the candidate pairs' slots
+  // have drifted apart (curve_order.h); true when the slots changed.
+  bool reorder_slots();
   bool covers(double t, const double* y, double lookahead) const;
   double fastest_speed(const double* y) const;
   void set_coefficients(ContactList& list, bool walls);
@@ -364,7 +373,15 @@ class DemSystem final : public OdeSystem {
   double wall_conductance(const double* px, const double* py, const std::vector<Vec2>& a, const std::vector<Vec2>& b,
                           int p, int& wall) const;
   double conduct(double t, const double* y, const double* temp, double* heat, bool wall_sources) const;
-  double conduct_walls(double t, const double* y, const double* temp, double* heat, bool wall_sources,
+  // Where conducted heat goes: particle i's entry of a plain array, or (a full evaluation) the sum
+  // at its slot.
+  struct HeatSink {
+    double* heat = nullptr;
+    ParticleSum* sums = nullptr;
+    const int* slot = nullptr;
+    double& operator[](int i) const { return sums ? sums[slot[i]].heat : heat[i]; }
+  };
+  double conduct_walls(double t, const double* y, const double* temp, const HeatSink& heat, bool wall_sources,
                        double* conductance = nullptr) const;
 
   const Scene& scene_;
@@ -388,7 +405,6 @@ class DemSystem final : public OdeSystem {
   std::vector<CandidatePair> candidates_;
   ContactList pp_, pw_;
   std::vector<double> x_ref_, y_ref_;  // positions at the last rebuild
-  std::vector<double> wrapped_x_, wrapped_y_;  // periodic cells: the places the tree saw
   double t_ref_ = 0;
   bool built_ = false;
   long rebuilds_ = 0;
@@ -398,7 +414,18 @@ class DemSystem final : public OdeSystem {
   double committed_time_ = 0, trial_time_ = 0;
   std::vector<double> work_force_;  // see work_components(), from the latest evaluation
   std::vector<BlockSums> block_sums_;  // the particle contacts stage's, per block
-  std::vector<ParticleKinematics> kinematics_;  // the particle contacts stage's, per particle
+  // The contact stage's order of the particles: particle i's kinematics and sums are at slot_[i],
+  // the particle at slot s is particle_at_[s]. The lists are sorted by their pairs' slots, so the
+  // contact loop walks the particles in this order. The identity until a pile has mixed so far
+  // that its pairs' slots lie far apart: then the particles are ranked along a Hilbert curve
+  // (reorder_slots()), as LAMMPS sorts its atoms, without renumbering the state.
+  std::vector<int> slot_, particle_at_;
+  std::vector<int> curve_order_;            // reorder_slots()'s scratch
+  std::vector<uint64_t> curve_keys_;
+  long reorders_ = 0;
+  std::vector<double> slot_x_, slot_y_, slot_r_;  // places_by_slot()'s
+  std::vector<ParticleKinematics> kinematics_;  // the particle contacts stage's, per slot
+  std::vector<ParticleSum> sums_;               // the contact stages', per slot
   bool latest_conducted_ = false;      // the latest evaluation was full: the lists hold its conductances
   int works_ = 2;
   double max_overlap_fraction_ = 0;

@@ -42,12 +42,12 @@ double DemSystem::conduct(double t, const double* y, const double* temp, double*
     heat[i] += q;
     heat[j] -= q;
   }
-  return conduct_walls(t, y, temp, heat, wall_sources);
+  return conduct_walls(t, y, temp, {heat}, wall_sources);
 }
 
 // The walls' part of conduct(): heat[i] += sum_w H_iw (T_w - T_i); returns the heat the walls give.
 // With `conductance`, each candidate's goes there (0 when not touching).
-double DemSystem::conduct_walls(double t, const double* y, const double* temp, double* heat, bool wall_sources,
+double DemSystem::conduct_walls(double t, const double* y, const double* temp, const HeatSink& heat, bool wall_sources,
                                 double* conductance) const {
   const double *px = y + x_at(), *py = y + y_at();
   double heat_walls = 0;

@@ -12,6 +12,7 @@
 // The loop is compiled for each normal model, for lists with and without history, for one thread
 // or several, and for what the scene adds (PairExtras: nothing, heat, or heat, contact events and
 // particles of walls): what a scene uses is chosen once per evaluation, not tested per contact.
+#include <algorithm>
 #include <type_traits>
 
 #include "src/dem/contact_kernel.h"
@@ -38,15 +39,15 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
     const PeriodicCell cell = cell_;
     const ParticleKinematics* kin = kinematics_.data();
     const ContactArrays list = pp_.arrays();
-    const ParticleSums to = particle_sums(e);
+    ParticleSum* to = sums_.data();
     HeatRow* heat_rows = pp_.heat_rows.data();
     double* conductance = pp_.conductance.data();
     // A contact's heat: its row on several threads, added to its two particles on one.
-    auto book_heat = [&](int p, int i, int j, const HeatRow& heat) {
+    auto book_heat = [&](int p, const HeatRow& heat) {
       if constexpr (Threaded)
         heat_rows[p] = heat;
       else
-        add_heat_row(to, i, j, heat);
+        add_heat_row(to, list.si[p], list.sj[p], heat);
     };
     BlockSums sums;
     // First the geometry of every candidate, without a branch on whether it touches (a third do
@@ -59,8 +60,8 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
     int acting_list[sum_block], idle_list[sum_block];
     int acting_count = 0, idle_count = 0;
     for (int k = 0; k < count; ++k) {
-      const int p = begin + k, i = list.i[p], j = list.j[p];
-      const ParticleKinematics &pi = kin[i], &pj = kin[j];
+      const int p = begin + k;
+      const ParticleKinematics &pi = kin[list.si[p]], &pj = kin[list.sj[p]];
       const Vec2 d = cell.minimum_image(pj.x - pi.x, pj.y - pi.y);  // separation()
       const double rsum = pi.r + pj.r;
       const double d2 = d.x * d.x + d.y * d.y;
@@ -87,7 +88,7 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
     // Then the contacts that act.
     for (int a = 0; a < acting_count; ++a) {
       const int k = acting_list[a], p = begin + k, i = list.i[p], j = list.j[p];
-      const ParticleKinematics &pi = kin[i], &pj = kin[j];
+      const ParticleKinematics &pi = kin[list.si[p]], &pj = kin[list.sj[p]];
       const Vec2 d{sep_x[k], sep_y[k]};
       const double rsum = pi.r + pj.r;
       // Two particles of walls (attached or fixed) do not push each other: walls do not touch
@@ -109,7 +110,7 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
         heat = {q, -q};
         conductance[p] = h;
         if (walls_both) {
-          book_heat(p, i, j, heat);
+          book_heat(p, heat);
           continue;
         }
       }
@@ -144,7 +145,7 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
       if constexpr (Threaded)
         pp_.rows[p] = row;
       else
-        add_row(to, i, j, row);
+        add_row(to, list.si[p], list.sj[p], row);
       sums.damping += f.damping_power;
       sums.friction_work += f.work_rate;
       if (thermal) {
@@ -153,7 +154,7 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
         heat.to_i += share * made;
         heat.to_j += (1 - share) * made;
         sums.heat_generated += made;
-        book_heat(p, i, j, heat);
+        book_heat(p, heat);
       }
       sums.worst = std::max(sums.worst, c.overlap * std::max(pi.inv_r, pj.inv_r));
     }
@@ -170,17 +171,17 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
 
 void DemSystem::prepare_particles(const Evaluation& e) {
   kinematics_.resize(n_);
+  sums_.resize(n_);
   ParticleKinematics* kin = kinematics_.data();
-  const ParticleSums to = particle_sums(e);
+  ParticleSum* sums = sums_.data();
+  const int* slot = slot_.data();
   const bool spins = e.w != nullptr, history = pp_.history, threaded = e.threaded;
 #pragma omp parallel for schedule(static) if (parallel_worthwhile(n_))
   for (int i = 0; i < n_; ++i) {
-    kin[i] = {e.x[i], e.y[i], e.vx[i], e.vy[i], spins ? e.w[i] : 0.0, history ? e.angle[i] - committed_angle_[i] : 0.0,
+    const int s = slot[i];
+    kin[s] = {e.x[i], e.y[i], e.vx[i], e.vy[i], spins ? e.w[i] : 0.0, history ? e.angle[i] - committed_angle_[i] : 0.0,
               radius_[i], inv_radius_[i]};
-    if (threaded) continue;
-    to.fx[i] = to.fy[i] = to.dx[i] = to.dy[i] = to.gx[i] = to.gy[i] = 0;
-    if (to.torque) to.torque[i] = 0;
-    if (to.heat) to.heat[i] = 0;
+    if (!threaded) sums[s] = {};
   }
 }
 

@@ -17,7 +17,7 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
   for (WallLoad& load : wall_loads_) load = {};
   const bool thermal = e.heat != nullptr;
   const ContactArrays list = pw_.arrays();
-  const ParticleSums sums = particle_sums(e);
+  ParticleSum* sums = sums_.data();
   for (int p = 0, np = pw_.size(); p < np; ++p) {
     const int i = pw_.i[p], sgi = pw_.j[p];
     const double r = radius_[i];
@@ -60,7 +60,7 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     row.gy = -f.tangential * n.x;
     row.dx = f.dashpot * n.x;
     row.dy = f.dashpot * n.y;
-    add_row(sums, i, -1, row);
+    add_row(sums, list.si[p], -1, row);
     e.damping += f.damping_power;
     e.friction_work += f.work_rate;
     e.walls_work += power;
@@ -72,7 +72,7 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     load.power += power;
     if (thermal) {  // the wall keeps its share
       const double made = laws_[pw_.law[p]].heat_share * heat_made(f.work_rate, f.damping_power);
-      add_heat_row(sums, i, -1, {made, 0.0});
+      add_heat_row(sums, list.si[p], -1, {made, 0.0});
       e.heat_generated += made;
     }
     e.worst = std::max(e.worst, hit.overlap * inv_radius_[i]);

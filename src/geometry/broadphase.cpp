@@ -41,6 +41,12 @@ b2AABB Broadphase::box(double x0, double y0, double x1, double y1) const {
   return bb;
 }
 
+void Broadphase::forget_particles() {
+  for (int32 id : particle_proxy_) particles_.DestroyProxy(id);
+  particle_proxy_.clear();
+  anchor_pairs_.clear();
+}
+
 void Broadphase::particle_pairs(const double* x, const double* y, const double* r, int n, const PeriodicCell& cell,
                                 std::vector<CandidatePair>& out) {
   // Keep the tree across rebuilds: a particle is re-inserted only when it has left its fat box,
@@ -56,9 +62,7 @@ void Broadphase::particle_pairs(const double* x, const double* y, const double* 
   const bool inserted = static_cast<int>(particle_proxy_.size()) != n;
   moved_.assign(n, inserted || skin_ != anchored_skin_ || !(cell == anchored_cell_));
   if (inserted) {
-    for (int32 id : particle_proxy_) particles_.DestroyProxy(id);
-    particle_proxy_.clear();
-    anchor_pairs_.clear();
+    forget_particles();
     anchor_x_.assign(x, x + n);
     anchor_y_.assign(y, y + n);
     for (int i = 0; i < n; ++i) particle_proxy_.push_back(particles_.CreateProxy(fat_box(i), as_user_data(i)));

@@ -42,6 +42,8 @@ class Broadphase {
   // positions must lie in the cell and whose periods exceed twice that reach), sorted by (i, j).
   void particle_pairs(const double* x, const double* y, const double* r, int n, const PeriodicCell& cell,
                       std::vector<CandidatePair>& out);
+  // The particles were numbered anew: the next query inserts them all again.
+  void forget_particles();
   // (particle, segment) pairs with distance(centre, segment) < r + skin, sorted.
   // In a periodic cell, the particle's images around it count too (walls need not lie in the cell).
   void wall_pairs(const double* x, const double* y, const double* r, int n, const std::vector<Vec2>& a,

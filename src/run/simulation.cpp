@@ -607,6 +607,7 @@ nlohmann::json SceneRun::summary(Ended ended) {
                                 {"mean_power", sum[3] / n}});
   }
   summary["neighbour_rebuilds"] = system_.rebuilds();
+  summary["curve_reorders"] = system_.reorders();
   if (timed_steps_before_ >= 0)
     summary["timed"] = {{"from_step", timed_steps_before_}, {"steps", timed_steps_}, {"rhs_evals", timed_rhs_},
                         {"neighbour_rebuilds", timed_rebuilds_}, {"neighbour_update_seconds", timed_neighbour_seconds_},

@@ -16,29 +16,13 @@
 #include "src/dem/dem_system.h"
 #include "src/base/parallel.h"
 #include "src/scene/scene_yaml.h"
+#include "tests/support.h"
 
 namespace kiln {
 namespace {
 
-std::string pressed_pile(bool hot) {
-  std::ostringstream s;
-  s << "name: pressed_pile\nmass_model: sphere\ngravity: [0, -9.81]\nallow_overlap: true\n"
-    << (hot ? "heat_from_dissipation: all\n" : "")
-    << "materials:\n  grain: {density: 2500, stiffness: 10000, restitution: 0.5, friction: 0.5, "
-       "rolling_friction: 0.1" << (hot ? ", specific_heat: 840, conductivity: 2" : "") << "}\n"
-    << "particles:\n  - material: grain\n    radius: {uniform: [0.00095, 0.00105]}\n"
-    << (hot ? "    temperature: {left: 100, right: 0, x_split: 0.146}\n" : "")
-    << "    random_velocity: {max: 0.05, seed: 4}\n"
-    << "    lattice: {kind: hexagonal, origin: [0.0005, 0.0012], spacing: 0.00195, rows: 60, columns: 150, "
-       "jitter: 0.00002, seed: 3}\n"
-    << "periodic: {x: [0, 0.2925]}\n"
-    << "walls:\n  - {material: grain, polyline: [[-1, 0], [1.3, 0]]}\n"
-    << "integrator: velocity-verlet\ndt: 1.0e-6\nt_end: 1\n";
-  return s.str();
-}
-
 std::vector<double> final_state(const std::string& integrator, bool hot, int threads, int steps) {
-  const Scene scene = parse_scene(pressed_pile(hot), "pressed_pile");
+  const Scene scene = parse_scene(testing::pressed_pile(hot), "pressed_pile");
   DemSystem system(scene);
   std::vector<double> y = system.initial_state();
   const int before = omp_get_max_threads();
@@ -66,7 +50,7 @@ TEST_CASE("a run ends in the same bits on 1, 2 and 4 threads", "[threads]") {
       CHECK(same_bits(one, final_state(integrator, hot, 2, 60)));
       CHECK(same_bits(one, final_state(integrator, hot, 4, 60)));
       // And the run did something: discs moved (and heat flowed and was made).
-      const std::vector<double> start = DemSystem(parse_scene(pressed_pile(hot), "p")).initial_state();
+      const std::vector<double> start = DemSystem(parse_scene(testing::pressed_pile(hot), "p")).initial_state();
       CHECK_FALSE(same_bits(one, start));
     }
 }
