@@ -247,27 +247,23 @@ class DemSystem final : public OdeSystem {
   struct ParticleSum {
     double fx, fy, torque, dx, dy, gx, gy, heat;
   };
-  // A contact's row added to the sums of the particles at slots a and b (b < 0: a wall), heat
-  // rows likewise: on one thread, in the order of the lists, the additions rows_to_particles()
-  // makes.
+  // A contact's row added to one particle's sum: the pair's i takes it as it is, its j with the
+  // opposite sign and torque_j (a sign of -1 is exact: the bits of subtracting).
+  static void add_row_to(ParticleSum& s, const ContactRow& r, bool is_i) {
+    const double sign = is_i ? 1.0 : -1.0;
+    s.fx += sign * r.fx;
+    s.fy += sign * r.fy;
+    s.dx += sign * r.dx;
+    s.dy += sign * r.dy;
+    s.gx += sign * r.gx;
+    s.gy += sign * r.gy;
+    s.torque += is_i ? r.torque_i : r.torque_j;
+  }
+  // ... to the sums of the particles at slots a and b (b < 0: a wall), heat rows likewise: on one
+  // thread, in the order of the lists, the additions rows_to_particles() makes.
   static void add_row(ParticleSum* s, int a, int b, const ContactRow& r) {
-    ParticleSum& si = s[a];
-    si.fx += r.fx;
-    si.fy += r.fy;
-    si.dx += r.dx;
-    si.dy += r.dy;
-    si.gx += r.gx;
-    si.gy += r.gy;
-    si.torque += r.torque_i;
-    if (b < 0) return;
-    ParticleSum& sj = s[b];
-    sj.fx -= r.fx;
-    sj.fy -= r.fy;
-    sj.dx -= r.dx;
-    sj.dy -= r.dy;
-    sj.gx -= r.gx;
-    sj.gy -= r.gy;
-    sj.torque += r.torque_j;
+    add_row_to(s[a], r, true);
+    if (b >= 0) add_row_to(s[b], r, false);
   }
   static void add_heat_row(ParticleSum* s, int a, int b, const HeatRow& h) {
     s[a].heat += h.to_i;

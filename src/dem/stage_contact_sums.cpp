@@ -14,33 +14,16 @@ void DemSystem::rows_to_particles(Evaluation& e) {
   const ContactRow* pair = pp_.rows.data();
   const HeatRow* pair_heat = e.heat ? pp_.heat_rows.data() : nullptr;
   const int *by_i = pp_.by_i.data(), *by_j = pp_.by_j.data(), *by_j_rows = pp_.by_j_rows.data();
-  const int* first = pp_.si.data();
+  const int* slot_of_i = pp_.si.data();
   ParticleSum* sums = sums_.data();
 #pragma omp parallel for schedule(static)
   for (int k = 0; k < n_; ++k) {
     ParticleSum s{};
-    // The particle at slot k is the pair's i (its row) or its j (minus the row, torque_j).
+    // The particle at slot k is the pair's i or its j.
     auto add = [&](int p) {
-      const ContactRow& r = pair[p];
-      if (first[p] == k) {
-        s.fx += r.fx;
-        s.fy += r.fy;
-        s.torque += r.torque_i;
-        s.gx += r.gx;
-        s.gy += r.gy;
-        s.dx += r.dx;
-        s.dy += r.dy;
-        if (pair_heat) s.heat += pair_heat[p].to_i;
-      } else {
-        s.fx -= r.fx;
-        s.fy -= r.fy;
-        s.torque += r.torque_j;
-        s.gx -= r.gx;
-        s.gy -= r.gy;
-        s.dx -= r.dx;
-        s.dy -= r.dy;
-        if (pair_heat) s.heat += pair_heat[p].to_j;
-      }
+      const bool is_i = slot_of_i[p] == k;
+      add_row_to(s, pair[p], is_i);
+      if (pair_heat) s.heat += is_i ? pair_heat[p].to_i : pair_heat[p].to_j;
     };
     for (int q = by_j[k]; q < by_j[k + 1]; ++q) add(by_j_rows[q]);
     for (int p = by_i[k]; p < by_i[k + 1]; ++p) add(p);
