@@ -144,12 +144,12 @@ void DemSystem::places_by_slot(const double* px, const double* py) {
   }
 }
 
-// The slots are kept while most candidate pairs lie within a cache's worth of slots of each
-// other: the kinematics and sums of 4,096 particles (512 KB) fit a core's L2 cache. Past that
-// the particles are ranked along a Hilbert curve of their places (curve_order.h): the settled
-// 100,000-disc bench pile so ranked has none of its pairs further apart than that (1.9 % more
-// than 1,024 slots); numbered at random, (1 - 4,096 / 100,000)^2 = 92 %. The tree is then filled again in the new order (a rebuild from scratch,
-// as rare as the pile's mixing makes it).
+// The slots are kept while nine in ten candidate pairs lie within a cache's worth of slots of
+// each other: the kinematics and sums of 4,096 particles (512 KB) fit a core's L2 cache. Past
+// that the particles are ranked along a Hilbert curve of their places (curve_order.h): the
+// settled 100,000-disc bench pile so ranked has none of its pairs further apart than that (1.9 %
+// more than 1,024 slots); numbered at random, (1 - 4,096 / 100,000)^2 = 92 %. The tree is then
+// filled again in the new order (a rebuild from scratch, as rare as the pile's mixing makes it).
 bool DemSystem::reorder_slots() {
   constexpr int window = 4096;
   constexpr double drifted = 0.1;
