@@ -10,13 +10,19 @@
 
 namespace kiln {
 
+InputError Snapshot::layout_error(const std::string& source, const std::string& what) {
+  return InputError((source.empty() ? "" : source + ": ") + "the checkpoint " + what +
+                    ": it was written by a kiln whose state layout differs from this build's (a checkpoint "
+                    "resumes only under the build that wrote it); rerun the scene from the start");
+}
+
 namespace {
 
 template <class Map>
 const typename Map::mapped_type& find(const Map& map, const std::string& key, const std::string& source) {
   const auto it = map.find(key);
   if (it == map.end())
-    throw InputError(source + ": this checkpoint lacks '" + key + "' (written by another version of kiln?)");
+    throw Snapshot::layout_error(source, "lacks '" + key + "'");
   return it->second;
 }
 

@@ -44,6 +44,9 @@ class Snapshot {
   bool has(const std::string& key) const {
     return reals_.count(key) || integers_.count(key) || texts_.count(key);
   }
+  const std::string& source() const { return source_; }
+  // A checkpoint whose fields are not this build's: `what` it lacks or holds, the file, the advice.
+  static InputError layout_error(const std::string& source, const std::string& what);
 
   // Written under path + ".tmp" and renamed: a run killed while writing keeps its previous
   // checkpoint. Throws OutputError naming the file.
@@ -118,8 +121,8 @@ class SnapshotFields {
   template <class V>
   const V& sized(const V& got, size_t n, const std::string& key) const {
     if (got.size() != n)
-      throw InputError("the checkpoint's '" + prefix_ + key + "' holds " + std::to_string(got.size()) +
-                                  " values where " + std::to_string(n) + " belong");
+      throw Snapshot::layout_error(in_->source(), "holds " + std::to_string(got.size()) + " values in '" + prefix_ +
+                                                      key + "' where " + std::to_string(n) + " belong");
     return got;
   }
   Snapshot* out_ = nullptr;

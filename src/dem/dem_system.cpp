@@ -189,6 +189,7 @@ void DemSystem::state(SnapshotFields& f) {
   f.field("work_force", work_force_);
   f.field("body_reference", body_ref_);
   f.field("particle_at_slot", particle_at_);
+  f.field("ranked_share", ranked_share_);
   if (f.saving()) return;
   broadphase_.set_skin(skin);
   if (static_cast<int>(x_ref_.size()) != n_ || pp_.k.size() != pp_.i.size() || pw_.k.size() != pw_.i.size())

@@ -419,6 +419,11 @@ class DemSystem final : public OdeSystem {
   std::vector<int> curve_order_;            // reorder_slots()'s scratch
   std::vector<uint64_t> curve_keys_;
   long reorders_ = 0;
+  // The share of pairs apart (share_apart) that the latest ranking left: rank again only once it
+  // has doubled. A ranking that could not bring the pairs together (a curve through a scene whose
+  // extent one far particle sets, every disc of the pile in one or two of its cells) is not
+  // repeated at every rebuild.
+  double ranked_share_ = 0;
   std::vector<double> slot_x_, slot_y_, slot_r_;  // places_by_slot()'s
   std::vector<ParticleKinematics> kinematics_;  // the particle contacts stage's, per slot
   std::vector<ParticleSum> sums_;               // the contact stages', per slot

@@ -10,6 +10,13 @@
 #include "src/base/parallel.h"
 
 namespace kiln {
+namespace {
+
+// The slots a contact loop may reach back over and still find in cache: the kinematics and sums
+// of 4,096 particles (512 KB) fit a core's L2 cache (reorder_slots()).
+constexpr int slot_window = 4096;
+
+}  // namespace
 
 void DemSystem::prepare(double t, const double* y, double lookahead) {
   // A step that carries particles further than the base skin allows gets a wider skin for its
@@ -107,6 +114,7 @@ void DemSystem::rebuild(double t, const double* y, double skin) {
   if (reorder_slots()) {
     places_by_slot(px, py);
     broadphase_.particle_pairs(slot_x_.data(), slot_y_.data(), slot_r_.data(), n_, cell_, candidates_);
+    ranked_share_ = share_apart(candidates_, slot_window);
   }
   pp_.replace(candidates_, n_, true, particle_at_.data(), slot_.data());
   set_coefficients(pp_, false);
@@ -145,15 +153,17 @@ void DemSystem::places_by_slot(const double* px, const double* py) {
 }
 
 // The slots are kept while nine in ten candidate pairs lie within a cache's worth of slots of
-// each other: the kinematics and sums of 4,096 particles (512 KB) fit a core's L2 cache. Past
+// each other (slot_window). Past
 // that the particles are ranked along a Hilbert curve of their places (curve_order.h): the
 // settled 100,000-disc bench pile so ranked has none of its pairs further apart than that (1.9 %
 // more than 1,024 slots); numbered at random, (1 - 4,096 / 100,000)^2 = 92 %. The tree is then
 // filled again in the new order (a rebuild from scratch, as rare as the pile's mixing makes it).
+// A ranking that left more than a twentieth apart is repeated only once the share has doubled
+// (ranked_share_): one disc a hundred kilometres from a pile put the whole pile into one cell of
+// the curve, and every rebuild ranked it again, in vain, at ten times a rebuild's cost.
 bool DemSystem::reorder_slots() {
-  constexpr int window = 4096;
   constexpr double drifted = 0.1;
-  if (n_ <= window || share_apart(candidates_, window) <= drifted) return false;
+  if (n_ <= slot_window || share_apart(candidates_, slot_window) <= std::max(drifted, 2 * ranked_share_)) return false;
   std::vector<int>& by_curve = curve_order_;
   hilbert_order(slot_x_.data(), slot_y_.data(), n_, by_curve, curve_keys_);
   for (int r = 0; r < n_; ++r) by_curve[r] = particle_at_[by_curve[r]];  // slots of now to particles
