@@ -1,6 +1,7 @@
 #include "src/run/stability.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <optional>
 #include <sstream>
@@ -301,6 +302,7 @@ MechanicalLimit scene_limit(const Scene& scene, const std::string& integrator, c
 }  // namespace
 
 StabilityEstimate estimate_stability(const Scene& scene, const std::string& integrator) {
+  const auto start = std::chrono::steady_clock::now();
   StabilityEstimate est;
   const ImpactSpeeds speeds = impact_speeds(scene);
   est.impact_speed = std::max(speeds.wall, speeds.pair);
@@ -361,6 +363,7 @@ StabilityEstimate estimate_stability(const Scene& scene, const std::string& inte
     est.conduction_dt_limit =
         real_stability_of(integrator.empty() ? scene.integrator : integrator) / 2 * est.thermal_dt_limit_network;
   }
+  est.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return est;
 }
 
@@ -504,6 +507,7 @@ nlohmann::json estimate_json(const StabilityEstimate& est) {
   j["contact_duration"] = number(est.contact_duration);
   j["shortest_pair"] = est.shortest_pair;
   j["rayleigh_dt"] = number(est.rayleigh);
+  j["estimate_seconds"] = est.seconds;
   if (std::isfinite(est.thermal_dt_limit_network) || std::isfinite(est.thermal_dt_limit)) {
     j["thermal_dt_limit"] = number(est.thermal_dt_limit);
     j["thermal_dt_limit_network"] = number(est.thermal_dt_limit_network);

@@ -65,6 +65,7 @@ struct StabilityEstimate {
   // The integrator's own explicit conduction limit on the network at t = 0: its reach on the
   // negative real axis / lambda_max (inf when it takes conduction implicitly).
   double conduction_dt_limit = INFINITY;
+  double seconds = 0;  // wall time the estimate took (s): a run's start-up, not its steps
 };
 
 // The estimate for `integrator` (empty: the scene's; a frozen scene's heat stage: freeze.integrator's).

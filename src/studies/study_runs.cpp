@@ -132,11 +132,13 @@ void run_one(const std::string& path, const std::vector<std::string>& base_sets,
     Scene scene = load_scene(path, sets);
     if (!scene.freeze.enabled && scene.stop_kinetic_energy == 0) scene.output_interval = t_end;
     const int runs = run.repeats > 1 ? run.repeats + 1 : 1;  // a warm-up first when timing
+    const StabilityEstimate estimate = estimate_stability(scene);  // once for the repeats
     double best = INFINITY;
     for (int k = 0; k < runs; ++k) {
       FinalFields fields;
       RunOptions options{"", true, &fields};
       options.limit_at_end = run.limit_at_end;
+      options.estimate = &estimate;
       const nlohmann::json s = run_scene(scene, options);
       if (s["stability"].contains("at_end")) run.at_end = s["stability"]["at_end"];
       // A study of the heating stage counts that stage's cost alone (the settling is the same in

@@ -52,6 +52,8 @@ nlohmann::json without_timings(nlohmann::json study) {
   study.erase("ranks");
   if (study.contains("integrators"))
     for (auto& entry : study["integrators"]) entry.erase("wall_seconds");
+  for (const char* estimate : {"estimate", "estimate_at_start"})
+    if (study.contains(estimate)) study[estimate].erase("estimate_seconds");
   return study;
 }
 
