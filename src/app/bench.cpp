@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "integrators/integrator.h"
+#include "src/base/wall_clock.h"
 #include "src/dem/dem_system.h"
 #include "src/base/error.h"
 #include "src/scene/particle_file.h"
@@ -47,10 +48,6 @@ std::string bench_scene(const std::string& particles, double x0, double x1, cons
     << "allow_overlap: true\n"  // a settled pile is in contact
     << "integrator: " << nlohmann::json(o.integrator).dump() << "\ndt: 2.0e-6\nt_end: 1.0\nskin: 0.0004\n";
   return s.str();
-}
-
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 double peak_rss_mb() {

@@ -153,8 +153,8 @@ void DemSystem::places_by_slot(const double* px, const double* py) {
 }
 
 // The slots are kept while nine in ten candidate pairs lie within a cache's worth of slots of
-// each other (slot_window). Past
-// that the particles are ranked along a Hilbert curve of their places (curve_order.h): the
+// each other (slot_window). Past that the particles are ranked along a Hilbert curve of their
+// places (curve_order.h): the
 // settled 100,000-disc bench pile so ranked has none of its pairs further apart than that (1.9 %
 // more than 1,024 slots); numbered at random, (1 - 4,096 / 100,000)^2 = 92 %. The tree is then
 // filled again in the new order (a rebuild from scratch, as rare as the pile's mixing makes it).

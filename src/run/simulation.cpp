@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "integrators/integrator.h"
+#include "src/base/wall_clock.h"
 #include "src/dem/dem_system.h"
 #include "src/base/error.h"
 #include "src/observers/observer.h"
@@ -120,10 +121,6 @@ std::string utc_now() {
   return text;
 }
 
-double seconds_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 // One run: the state, its two stages (mechanics, then after a freeze heat alone), the frames,
 // the checks and the checkpoints. Everything a checkpoint must hold is a member.
 class SceneRun {
@@ -232,7 +229,7 @@ void SceneRun::start_fresh() {
     integrator_->start(system_, 0.0, y_.data(), scene_.dt);
   }
   initial_ = system_.energy(0, y_.data());
-  guard_ = std::make_unique<StabilityGuard>(scene_, system_, initial_, options_.estimate);
+  guard_ = std::make_unique<StabilityGuard>(scene_, system_, initial_, *options_.estimate);
   if (!options_.out_dir.empty()) {
     files_ = std::make_unique<RunOutputs>(options_.out_dir, system_, run_id_);
     files_->frame(0, y_.data());
@@ -539,7 +536,7 @@ void SceneRun::state(SnapshotFields& f) {
 void SceneRun::parts(SnapshotFields& f) {
   SnapshotFields system = f.within("system."), checks = f.within("checks.");
   system_.state(system);
-  if (!f.saving()) guard_ = std::make_unique<StabilityGuard>(scene_, system_, initial_, options_.estimate);
+  if (!f.saving()) guard_ = std::make_unique<StabilityGuard>(scene_, system_, initial_, *options_.estimate);
   guard_->state(checks);
   for (size_t k = 0; k < observers_.size(); ++k) {
     SnapshotFields observer = f.within("observer." + std::to_string(k) + ".");

@@ -9,6 +9,7 @@
 #include "contact/normal_force.h"
 #include "src/dem/contact_coefficients.h"
 #include "src/dem/dem_system.h"
+#include "src/base/wall_clock.h"
 #include "src/dem/frozen_conduction.h"
 #include "integrators/stability_region.h"
 #include "src/run/linearised_dynamics.h"
@@ -363,7 +364,7 @@ StabilityEstimate estimate_stability(const Scene& scene, const std::string& inte
     est.conduction_dt_limit =
         real_stability_of(integrator.empty() ? scene.integrator : integrator) / 2 * est.thermal_dt_limit_network;
   }
-  est.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  est.seconds = seconds_since(start);
   return est;
 }
 

@@ -22,8 +22,8 @@ constexpr double blow_up_fraction = 0.25;
 }  // namespace
 
 StabilityGuard::StabilityGuard(const Scene& scene, const DemSystem& sys, const EnergyLedger& initial,
-                               const StabilityEstimate* estimate)
-    : scene_(scene), sys_(sys), initial_(initial), estimate_(estimate ? *estimate : estimate_stability(scene)),
+                               const StabilityEstimate& estimate)
+    : scene_(scene), sys_(sys), initial_(initial), estimate_(estimate),
       largest_exchange_(exchanged(initial, initial)) {
   // Far from the origin a step's displacement is rounded to the positions' ulp: a disc 1e5 m up
   // does not move in its first 1 us step (g dt^2 / 2 = 4.9e-12 m is below half an ulp, 7.3e-12 m)

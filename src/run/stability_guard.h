@@ -17,9 +17,9 @@ namespace kiln {
 
 class StabilityGuard {
  public:
-  // `estimate`: the scene's (estimate_stability(scene)), computed here when not given.
+  // `estimate`: the scene's (estimate_stability(scene), which run_scene makes before the run).
   StabilityGuard(const Scene& scene, const DemSystem& sys, const EnergyLedger& initial,
-                 const StabilityEstimate* estimate = nullptr);
+                 const StabilityEstimate& estimate);
   // After every mechanical step of length h ending in state y: the largest overlap against
   // checks.max_overlap_fraction, and the largest displacement in a step against the particle's
   // radius (a particle that moves more than its radius in one step can pass through a wall or
