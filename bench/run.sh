@@ -169,7 +169,7 @@ if [ $have_liggghts = 1 ]; then liggghts_pile "$piles/pile_10k.data" "$piles/pil
 middle_x() { awk '/xlo xhi/ { printf "%.17g\n", ($1 + $2) / 2; exit }' "$1"; }
 
 # ---- runs ----
-echo "group,repeat,code,model,integrator,n,steps,warmup,threads,loop_s,rhs_evals,peak_rss_mb,contacts_per_disc,rebuild_ns_per_disc,log" >"$csv"
+echo "group,repeat,code,model,integrator,n,steps,warmup,threads,loop_s,rhs_evals,peak_rss_mb,run_rss_mb,contacts_per_disc,rebuild_ns_per_disc,log" >"$csv"
 count=0
 group=""
 repeat=0
@@ -190,8 +190,14 @@ record() {
     tail -n 15 "$log"
     exit 1
   fi
-  local loop rhs contacts rebuild
+  local loop rhs contacts rebuild rss run_rss=""
+  # Peak RSS: /usr/bin/time's, except kiln's own figures: kiln bench starts the resident
+  # high-water mark again after its stability estimate (to read the run's own peak apart), which
+  # starts what /usr/bin/time sees again too; its peak_rss_mb is the larger of the two parts'.
+  rss=$(awk -F': ' '/Maximum resident set size/ { printf "%.2f", $2 / 1024 }' "$log.time")
   if [ "$code" = kiln ]; then
+    rss=$(sed -n 's/^kiln-bench: .* peak_rss_mb=\([^ ]*\).*/\1/p' "$log")
+    run_rss=$(sed -n 's/^kiln-bench: .* run_rss_mb=\([^ ]*\).*/\1/p' "$log")
     loop=$(sed -n 's/^kiln-bench: .* loop_s=\([^ ]*\).*/\1/p' "$log")
     rhs=$(sed -n 's/^kiln-bench: .* rhs_evals=\([^ ]*\).*/\1/p' "$log")
     contacts=$(sed -n 's/^kiln-bench: .* contacts_per_disc=\([^ ]*\).*/\1/p' "$log")
@@ -206,9 +212,7 @@ record() {
                              END { if (b > 0) printf "%.1f\n", 1e9 * t / b / n }' "$log")
   fi
   [ -n "$loop" ] || { echo "no loop time for $steps steps in $log"; exit 1; }
-  local rss
-  rss=$(awk -F': ' '/Maximum resident set size/ { printf "%.2f", $2 / 1024 }' "$log.time")
-  echo "$group,$repeat,$code,$model,$integrator,$n,$steps,$warmup,$threads,$loop,$rhs,$rss,$contacts,$rebuild,$log" >>"$csv"
+  echo "$group,$repeat,$code,$model,$integrator,$n,$steps,$warmup,$threads,$loop,$rhs,$rss,$run_rss,$contacts,$rebuild,$log" >>"$csv"
   awk -v l="$loop" -v n="$n" -v s="$steps" -v r="$rss" \
     'BEGIN { printf "%.2f s, %.3g particle-steps/s, %.0f MB\n", l, n * s / l, r }'
 }

@@ -1,5 +1,6 @@
 #include "src/app/bench.h"
 
+#include <malloc.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -9,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 
 #include "integrators/integrator.h"
@@ -18,6 +20,7 @@
 #include "src/scene/particle_file.h"
 #include "src/scene/scene_yaml.h"
 #include "src/run/simulation.h"
+#include "src/run/stability.h"
 
 namespace kiln {
 
@@ -50,10 +53,32 @@ std::string bench_scene(const std::string& particles, double x0, double x1, cons
   return s.str();
 }
 
+// The process's peak resident size since it began (MB): what /usr/bin/time reports of a peer.
 double peak_rss_mb() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return usage.ru_maxrss / 1024.0;
+}
+
+// The resident high-water mark (VmHWM of /proc/self/status, MB), which, unlike ru_maxrss, can be
+// started again: restart_resident_peak() sets it to the resident size now (Linux 4.0 and later:
+// "5" written to /proc/self/clear_refs), after giving the heap's free pages back (malloc_trim),
+// so that what the stability estimate freed is not counted as the run's. A run's own peak is then
+// read apart from the estimate's, which comes first and holds several times the step's memory.
+// Negative where /proc does not give it. Starting the mark again starts ru_maxrss again too, and
+// so what /usr/bin/time reports of this process: its peak is the larger of the two parts'.
+double resident_peak_mb() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);)
+    if (line.rfind("VmHWM:", 0) == 0) return std::stod(line.substr(6)) / 1024.0;  // "VmHWM:  1234 kB"
+  return -1;
+}
+bool restart_resident_peak() {
+  malloc_trim(0);
+  std::ofstream clear("/proc/self/clear_refs");
+  clear << "5";
+  clear.close();
+  return clear.good() && resident_peak_mb() >= 0;
 }
 
 // The lattice dropped onto the floor and settled for 0.24 s under velocity Verlet: the pile as a
@@ -142,12 +167,18 @@ int time_pile(const std::string& path, const BenchOptions& o) {
   RunOptions run;
   run.quiet = true;
   run.time_from_step = o.warmup;
+  const StabilityEstimate estimate = estimate_stability(scene);
+  const double start_rss = peak_rss_mb();
+  const bool apart = restart_resident_peak();
+  run.estimate = &estimate;
   const nlohmann::json summary = run_scene(scene, run);
+  const double run_rss = apart ? resident_peak_mb() : -1;
+  const double rss = apart ? std::max(start_rss, run_rss) : peak_rss_mb();
   const nlohmann::json& timed = summary.at("timed");
   const long steps = timed.at("steps"), rhs = timed.at("rhs_evals"), rebuilds = timed.at("neighbour_rebuilds");
   const double loop = timed.at("seconds");
   const int n = summary.at("particles");
-  const double rate = n * static_cast<double>(steps) / loop, rss = peak_rss_mb();
+  const double rate = n * static_cast<double>(steps) / loop;
   // At the end of the timed steps, as LAMMPS' contact/atom counts them: disc-disc contacts at both
   // ends; the floor's apart.
   const double per_disc = 2.0 * timed.at("particle_contacts").get<double>() / n;
@@ -162,17 +193,21 @@ int time_pile(const std::string& path, const BenchOptions& o) {
   std::printf("bench_pile (%s, %s): %d discs from %s, periodic in x over [%g, %g] m; %ld timed steps of %g s after %ld warm-up steps, "
               "run with its checks (every step), ledger and a frame every %ld steps\n",
               model, o.integrator.c_str(), n, path.c_str(), x0, x1, steps, scene.dt, o.warmup, frame_every);
-  std::printf("  loop time %.3f s, %.3g particle-steps/s (%.1f ns per particle-step), %.2f right-hand sides per step, peak RSS %.1f MB\n",
-              loop, rate, 1e9 / rate, double(rhs) / steps, rss);
+  std::printf("  loop time %.3f s, %.3g particle-steps/s (%.1f ns per particle-step), %.2f right-hand sides per step\n",
+              loop, rate, 1e9 / rate, double(rhs) / steps);
+  char run_peak[64] = "not measured here (no /proc/self/clear_refs)";
+  if (apart) std::snprintf(run_peak, sizeof run_peak, "%.1f MB (its system, lists and steps)", run_rss);
+  std::printf("  peak RSS %.1f MB: %.1f MB up to the end of the stability estimate before the run, the run itself %s\n", rss,
+              start_rss, run_peak);
   const long reorders = summary.at("curve_reorders");
   std::printf("  %.3f contacts per disc (particle-particle, at both ends, at the end), %.3f with the floor; %ld neighbour rebuilds while timed, %.0f ns per disc each; "
               "particle order ranked along the curve %ld times in the run\n",
               per_disc, floor_per_disc, rebuilds, rebuild_ns, reorders);
   std::printf("kiln-bench: n=%d steps=%ld warmup=%ld integrator=%s model=%s loop_s=%.6f particle_steps_per_s=%.6g "
-              "ns_per_particle_step=%.4f rhs_evals=%ld s_per_rhs=%.6g s_per_step=%.6g peak_rss_mb=%.2f "
+              "ns_per_particle_step=%.4f rhs_evals=%ld s_per_rhs=%.6g s_per_step=%.6g peak_rss_mb=%.2f run_rss_mb=%.2f "
               "contacts_per_disc=%.4f wall_contacts_per_disc=%.4f rebuilds=%ld rebuild_ns_per_disc=%.1f curve_reorders=%ld\n",
               n, steps, o.warmup, o.integrator.c_str(), model, loop, rate, 1e9 / rate, rhs, rhs > 0 ? loop / rhs : 0.0,
-              loop / steps, rss, per_disc, floor_per_disc, rebuilds, rebuild_ns, reorders);
+              loop / steps, rss, run_rss, per_disc, floor_per_disc, rebuilds, rebuild_ns, reorders);
   return exit_success;
 }
 
