@@ -30,6 +30,7 @@ slope-epsd-rolling|$slope|rolling_model=epsd|0.3
 slope-no-tangential-dashpot|$slope|contacts=[{between: [copper, plate], tangential_damping_ratio: 0}]|0.3
 t1-damped|$here/cases/t1_free_fall_damped.yaml||0.3
 harmonic-pair|$here/cases/harmonic_contact_pair.yaml||1
+deep-pair|$here/scripts/stability_deep_pair.yaml||1
 f1-chain|$here/cases/f1_chain_slab.yaml||
 settled-column|$here/scripts/stability_column.yaml||
 light-lid|$here/scripts/stability_lid.yaml||"

@@ -15,6 +15,7 @@
 #include "src/dem/contact_coefficients.h"
 #include "src/run/simulation.h"
 #include "src/run/stability.h"
+#include "src/scene/overrides.h"
 #include "src/scene/scene_yaml.h"
 #include "src/studies/study_sweep.h"
 #include "tests/support.h"
@@ -428,4 +429,46 @@ TEST_CASE("a periodic ring of 200 touching discs, too many coordinates to decomp
   CHECK(l.omega_max == Approx(2 * std::sqrt(k / m)).epsilon(1e-7));  // the Lanczos tolerance
   CHECK(l.dt == Approx(1 / std::sqrt(k / m)).epsilon(1e-6));
   CHECK(l.mode == "normal");
+}
+
+TEST_CASE("ARK437L2SA's limit holds on a contact that never opens, and a run stopped below it is told that its "
+          "contacts open and close within a step",
+          "[stability][checks]") {
+  // The harmonic pair: a copper disc on a floor, oscillating between 2.4e-7 and 7.3e-7 m of overlap
+  // about its rest overlap of 4.9e-7 m. kiln sweep measured 0.83 of ARK437L2SA's printed limit
+  // (1.047e-3 s, its imaginary interval 4.695 / omega): at 0.86 of it the run gains energy. Not a
+  // mode: a contact lasts 0.78 steps there, and the table's stages reach positions where the disc
+  // has left the floor, so the force switches off inside the step. The message blamed "a state
+  // already blown apart". Started 1e-9 m from its rest overlap, 500 times deeper in the contact
+  // than its amplitude, the same disc runs at 0.99 of the limit and is stopped at 1.02.
+  const std::string integrator = "integrator=erk:ARK437L2SA_ERK_7_3_4";
+  const Scene shallow = load_scene(testing::case_path("harmonic_contact_pair.yaml"), {integrator});
+  const StabilityEstimate estimate = estimate_stability(shallow);
+  REQUIRE(estimate.dt_limit == Approx(1.047e-3).epsilon(1e-3));
+  try {
+    run_scene(load_scene(testing::case_path("harmonic_contact_pair.yaml"), {integrator, "dt=9e-4", "t_end=0.1"}),
+              {"", true});
+    FAIL("the shallow pair at 0.86 of the limit ran to the end");
+  } catch (const InstabilityError& e) {
+    const std::string m = e.what();
+    CHECK(m.find("energy blow-up") != std::string::npos);
+    CHECK(m.find("steps per contact duration, contacts open and close within a step") != std::string::npos);
+    CHECK(m.find("blown apart") == std::string::npos);
+  }
+  const double mass = 8900 * 4.0 / 3.0 * M_PI * std::pow(0.002, 3), rest_overlap = mass * 9.81 / 6000;
+  std::ostringstream deep;
+  deep.precision(17);
+  deep << "name: deep_pair\nmass_model: sphere\ngravity: [0, -9.81]\n"
+       << "materials:\n  copper: {density: 8900, stiffness: 6000, restitution: 1.0}\n"
+       << "particles:\n  - {material: copper, radius: 0.002, at: [[0.0, " << 0.002 - rest_overlap - 1e-9 << "]]}\n"
+       << "walls:\n  - {name: floor, material: copper, segment: [[-0.01, 0], [0.01, 0]]}\n"
+       << "allow_overlap: true\nintegrator: erk:ARK437L2SA_ERK_7_3_4\ndt: 1.0e-5\nt_end: 1\noutput_interval: 0.01\n";
+  const std::string path = written(deep.str(), "deep_pair.yaml");
+  const StabilityEstimate deep_estimate = estimate_stability(load_scene(path));
+  CHECK(deep_estimate.dt_limit == Approx(estimate.dt_limit).epsilon(1e-9));
+  // 0.99: 960 steps; the mode's amplitude stays 1e-9 m (|R| < 1), far inside the contact.
+  const nlohmann::json below = run_scene(load_scene(path, {assignment("dt", 0.99 * estimate.dt_limit)}), {"", true});
+  CHECK(below["t_end"].get<double>() == Approx(1.0));
+  CHECK_THROWS_WITH(run_scene(load_scene(path, {assignment("dt", 1.02 * estimate.dt_limit)}), {"", true}),
+                    Catch::Contains("energy blow-up"));
 }
