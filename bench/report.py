@@ -25,8 +25,10 @@ def load(path):
             r[key] = int(r[key])
         for key in ("loop_s", "peak_rss_mb"):
             r[key] = float(r[key])
-        # kiln's run alone, its stability estimate before it left out (empty for the peers)
-        r["run_rss_mb"] = float(r["run_rss_mb"]) if r.get("run_rss_mb") else None
+        # kiln's run alone, its stability estimate before it left out: empty for the peers, -1 where
+        # kiln could not measure it (no /proc/self/clear_refs)
+        run_rss = float(r["run_rss_mb"]) if r.get("run_rss_mb") else -1
+        r["run_rss_mb"] = run_rss if run_rss > 0 else None
         r["contacts_per_disc"] = float(r["contacts_per_disc"]) if r["contacts_per_disc"] else None
         r["rebuild_ns_per_disc"] = float(r["rebuild_ns_per_disc"]) if r.get("rebuild_ns_per_disc") else None
         r["rate"] = r["n"] * r["steps"] / r["loop_s"]

@@ -65,7 +65,7 @@ double peak_rss_mb() {
 // "5" written to /proc/self/clear_refs), after giving the heap's free pages back (malloc_trim),
 // so that what the stability estimate freed is not counted as the run's. A run's own peak is then
 // read apart from the estimate's, which comes first and holds several times the step's memory.
-// Negative where /proc does not give it. Starting the mark again starts ru_maxrss again too, and
+// Negative where /proc does not give it (run_rss_mb=-1 in the machine line). Starting the mark again starts ru_maxrss again too, and
 // so what /usr/bin/time reports of this process: its peak is the larger of the two parts'.
 double resident_peak_mb() {
   std::ifstream status("/proc/self/status");
