@@ -234,8 +234,9 @@ class DemSystem final : public OdeSystem {
   // and its working values stay in registers instead of going through the stack. Without
   // rotation w and spun are 0. prepare_particles() packs them, each particle at its slot (see
   // slot_), and, on one thread, zeroes the sums the contact stages add to (threaded,
-  // rows_to_particles() sets them).
-  struct ParticleKinematics {
+  // rows_to_particles() sets them). alignas: malloc aligns a vector's storage to 16 bytes only,
+  // and each particle then straddled two lines.
+  struct alignas(64) ParticleKinematics {
     double x, y, vx, vy;
     double w, spun;  // spin (rad/s), angle turned since the committed state (rad)
     double r, inv_r;
@@ -244,7 +245,7 @@ class DemSystem final : public OdeSystem {
   // What the contacts add to a particle, at its slot, one cache line: force, torque, the dashpots'
   // and friction's work forces, heat. Particles without rotation or heat add zeros there.
   // accelerations() takes them to the evaluation's arrays.
-  struct ParticleSum {
+  struct alignas(64) ParticleSum {
     double fx, fy, torque, dx, dy, gx, gy, heat;
   };
   // A contact's row added to one particle's sum: the pair's i takes it as it is, its j with the
