@@ -33,7 +33,8 @@ harmonic-pair|$here/cases/harmonic_contact_pair.yaml||1
 deep-pair|$here/scripts/stability_deep_pair.yaml||1
 f1-chain|$here/cases/f1_chain_slab.yaml||
 settled-column|$here/scripts/stability_column.yaml||
-light-lid|$here/scripts/stability_lid.yaml||"
+light-lid|$here/scripts/stability_lid.yaml||
+drum|$here/cases/t6_drum.yaml||0.3"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 out="$here/docs/stability_table.md"
