@@ -27,12 +27,26 @@ class StructureWalk {
     if (++seen_ > max_values_)
       throw InputError(at(node, path), "the scene expands to more than " + std::to_string(max_values_) +
                                            " values: aliases (*name) repeat a part of it too often");
+    if (!node.IsSequence() && !node.IsMap()) return;
+    // An alias inside its own anchor ({<<: *base} in &base) makes a list or map that contains
+    // itself: the walk would descend until the count above stopped it, thousands of levels down
+    // on a large scene, and the stack ran out first (SIGSEGV on N3 with one such line).
+    for (const YAML::Node& outer : open_)
+      if (outer.is(node))
+        throw InputError(at(node, path), "an alias (*name) here stands for a list or map that contains it: the scene "
+                                         "would never end");
+    // Chains of aliases, each anchor holding the one before, nest as deep as there are anchors.
+    if (open_.size() >= max_nesting)
+      throw InputError(at(node, path), "lists or maps nested more than " + std::to_string(max_nesting) +
+                                           " levels deep, aliases (*name) expanded: not a scene");
+    open_.push_back(node);
     if (node.IsSequence()) {
       size_t index = 0;
       for (const YAML::Node& item : node) visit(item, join(path, std::to_string(index++)));
-    } else if (node.IsMap()) {
+    } else {
       visit_map(node, path);
     }
+    open_.pop_back();
   }
 
  private:
@@ -61,9 +75,13 @@ class StructureWalk {
   static std::string describe_line(const Location& l) {
     return l.line > 0 ? "at line " + std::to_string(l.line) : "before";
   }
+  // A scene nests a few levels (particles, a set, its lattice); 64 leaves room and keeps the walk
+  // and the key paths in its messages short.
+  static constexpr size_t max_nesting = 64;
   Location origin_;
   size_t max_values_;
   size_t seen_ = 0;
+  std::vector<YAML::Node> open_;  // the lists and maps from the root to the node being visited
 };
 
 }  // namespace

@@ -31,7 +31,8 @@ void check_utf8(const std::string& text, const std::string& file);
 
 // What the YAML parser accepts but a scene must not be: a key given twice in a map (yaml-cpp would
 // silently read the first), a key that is not a plain word, and aliases that expand the document to
-// more than `max_values` values (a few lines of anchors can stand for billions). `origin` is where
+// more than `max_values` values (a few lines of anchors can stand for billions), make a list or map
+// that contains itself, or nest it more than 64 levels deep. `origin` is where
 // the document comes from: a file (line 1: lines are reported) or a --set value (line 0, and the
 // key it replaces).
 void check_structure(const YAML::Node& doc, const Location& origin, size_t max_values);

@@ -214,6 +214,27 @@ TEST_CASE("aliases that expand a scene beyond its own size are refused before it
   CHECK(seconds_since(t0) < hang_bound);
 }
 
+TEST_CASE("an alias inside its own anchor, and a chain of anchors deeper than a scene nests, are refused with a "
+          "short message",
+          "[hostile]") {
+  // A map merging itself ({<<: *base} inside &base) contains itself: on N3 (a large scene, so a
+  // large count of values allowed) the walk of the expanded document ran out of stack (SIGSEGV),
+  // on small scenes it was refused with a key path of 3,000 characters.
+  std::ifstream in(testing::case_path("n3_shear_cell.yaml"));
+  std::stringstream n3;
+  n3 << in.rdbuf();
+  const std::string looped = error_of(n3.str() + "base: &base {<<: *base, density: 1}\n");
+  CHECK(has(looped, "key 'base.<<': an alias (*name) here stands for a list or map that contains it"));
+  CHECK(looped.size() < 300);
+  CHECK(has(error_of(replaced(scene, "copper: {", "copper: &base {<<: *base, ")),
+            "key 'materials.copper.<<': an alias (*name) here stands for a list or map that contains it"));
+  // 200 anchors, each a list holding the one before: no cycle, few values, 200 levels deep.
+  std::ostringstream chain;
+  chain << "a0: &a0 [1]\n";
+  for (int k = 1; k < 200; ++k) chain << 'a' << k << ": &a" << k << " [*a" << k - 1 << "]\n";
+  CHECK(has(error_of(chain.str() + scene), "nested more than 64 levels deep, aliases (*name) expanded"));
+}
+
 TEST_CASE("lists nested thousands deep and more than 16 materials are refused before anything is built",
           "[hostile]") {
   CHECK(has(error_of("name: x\nmaterials: " + std::string(100000, '[') + std::string(100000, ']') + "\n"),
