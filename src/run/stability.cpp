@@ -525,10 +525,12 @@ DtVerdict judge_dt(const StabilityEstimate& est, double dt, const Scene& scene) 
     v.warnings.push_back(why);
     return v;
   };
+  // Named at t_end, where the scene sets the run's length, like every refusal of a scene's value.
+  const std::string at = scene.t_end_at.file.empty() ? "" : describe(scene.t_end_at) + ": ";
   if (scene.control.rtol == 0)
-    if (auto why = too_many_steps("dt", dt, scene.t_end)) return refused(*why);
+    if (auto why = too_many_steps("dt", dt, scene.t_end)) return refused(at + *why);
   if (scene.freeze.enabled && scene.control.rtol == 0)
-    if (auto why = too_many_steps("freeze.dt", scene.freeze.dt, scene.t_end)) return refused(*why);
+    if (auto why = too_many_steps("freeze.dt", scene.freeze.dt, scene.t_end)) return refused(at + *why);
   if (not_a_number(est))
     return refused("the time-step estimates are not numbers: the scene's masses, stiffnesses, conductivities or "
                    "speeds overflow double precision (about 1.8e308)");

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -72,6 +73,36 @@ Vec2 Region::upper() const {
   Vec2 hi = corners.front();
   for (Vec2 p : corners) hi = {std::max(hi.x, p.x), std::max(hi.y, p.y)};
   return hi;
+}
+
+double Region::area() const {
+  double twice = 0;
+  for (size_t i = 0, j = corners.size() - 1; i < corners.size(); j = i++)
+    twice += corners[j].x * corners[i].y - corners[i].x * corners[j].y;
+  return std::abs(twice) / 2;
+}
+
+std::string fill_cannot_fit(const Region& region, long long count, const RadiusDistribution& radii) {
+  const double r = radii.min, area = region.area();
+  double perimeter = 0, turn = 0;
+  bool convex = true;
+  const size_t n = region.corners.size();
+  for (size_t i = 0; i < n; ++i) {
+    const Vec2 a = region.corners[i], b = region.corners[(i + 1) % n], c = region.corners[(i + 2) % n];
+    perimeter += std::hypot(b.x - a.x, b.y - a.y);
+    const double cross = (b.x - a.x) * (c.y - b.y) - (b.y - a.y) * (c.x - b.x);
+    if (cross * turn < 0) convex = false;
+    if (cross != 0) turn = cross;
+  }
+  const double most = convex ? area / (2 * std::sqrt(3.0) * r * r) + perimeter / (4 * r) + 1 : area / (M_PI * r * r);
+  if (static_cast<double>(count) <= most) return "";
+  std::ostringstream s;
+  s.precision(4);
+  s << count << " discs of radius " << (radii.min == radii.max ? "" : "at least ") << r << " m cannot fit in the "
+    << (convex ? "convex " : "") << "region of " << area << " m^2: at most " << std::floor(most)
+    << (convex ? " (Oler's bound for discs in a convex region)" : " (their area alone)")
+    << "; enlarge the region or lower the count";
+  return s.str();
 }
 
 Placement random_fill(const Region& region, int count, const RadiusDistribution& radii, uint64_t seed,

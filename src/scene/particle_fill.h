@@ -37,7 +37,17 @@ struct Region {
   bool contains_disc(Vec2 centre, double radius) const;
   Vec2 lower() const;
   Vec2 upper() const;
+  double area() const;  // m^2 (shoelace formula; a self-crossing polygon counts its loops' net area)
 };
+
+// Why `count` discs with radii in [radii.min, radii.max] cannot fit in `region`, or "" when its
+// size alone does not rule them out. Shrunk to radius r_min about their centres, discs that fit
+// still fit: their centres lie at least r_min inside the region and 2 r_min apart. In a convex
+// region of area A and perimeter P that allows at most A / (2 sqrt 3 r_min^2) + P / (4 r_min) + 1
+// of them (N. Oler, "An inequality in the geometry of numbers", Acta Math. 105, 1961: at most
+// 2/sqrt 3 A' + P'/2 + 1 points a unit apart in a convex A', P'); in any other, pi r_min^2 each
+// must not exceed A.
+std::string fill_cannot_fit(const Region& region, long long count, const RadiusDistribution& radii);
 
 struct Placement {
   std::vector<Vec2> position;

@@ -48,6 +48,9 @@ Placement read_fill(const SceneNode& fill, const SceneNode& radius, const Scene&
   const Region region = read_region(fill);
   const long long count = fill["count"].integer(1, LLONG_MAX);
   claim.add_particles(fill["count"], count, std::to_string(count));
+  // Refused from the area before any placement: a million discs that cannot fit were placed one by
+  // one until the first found no room, which took minutes.
+  if (const std::string why = fill_cannot_fit(region, count, read_radius(radius)); !why.empty()) fill["count"].fail(why);
   const long long seed = fill.has("seed") ? fill["seed"].integer(0, LLONG_MAX) : 1;
   // A disc that finds no place in a million tries will not find one: the region is full.
   const long long attempts = fill.has("attempts") ? fill["attempts"].integer(1, 1000000) : 10000;

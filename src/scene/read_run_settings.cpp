@@ -103,6 +103,7 @@ void read_stepping(const SceneNode& root, Scene& scene) {
   // How many steps that makes is judged with the other limits of dt (judge_dt), which --force overrides.
   scene.dt = root["dt"].positive();
   scene.t_end = root["t_end"].positive();
+  scene.t_end_at = root["t_end"].location();
   if (scene.dt > scene.t_end) root["dt"].fail("dt is longer than t_end");
   scene.output_interval = root.has("output_interval") ? root["output_interval"].positive() : scene.t_end / 100;
 }

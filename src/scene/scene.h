@@ -8,6 +8,7 @@
 #include "contact/contact_law.h"
 #include "integrators/step_control.h"
 #include "src/geometry/periodic_cell.h"
+#include "src/base/error.h"
 #include "src/base/vec2.h"
 #include "src/scene/wall_motion.h"
 #include "thermal/conduction_model.h"
@@ -115,6 +116,7 @@ struct Scene {
   StepControl control;  // rtol/atol: adaptive stepping for integrators with an error estimate
   double dt = 0;
   double t_end = 0;
+  Location t_end_at;  // where t_end was given (file, line, key), for refusals of the run's length
   double output_interval = 0;
   double skin = 0;                    // neighbour skin (m); 0 = automatic
   double max_overlap_fraction = 0.5;  // instability check: overlap / smaller radius

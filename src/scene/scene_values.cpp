@@ -45,7 +45,12 @@ Vec2 point_of(const SceneNode& x, const SceneNode& y) {
 
 double restitution(const SceneNode& node) {
   const double e = node.number();
-  if (!(e >= least_restitution && e <= 1))
+  // Each end has its own reason; a value beyond one is told that end's.
+  if (e > 1)
+    node.fail("expected a restitution in [0.01, 1], got " + node.text() +
+              ": above 1 an impact would give back more energy than it took, which needs a dashpot of negative "
+              "damping (1 is an elastic contact, no dashpot)");
+  if (!(e >= least_restitution))
     node.fail("expected a restitution in [0.01, 1], got " + node.text() +
               ": below 0.01 a spring-dashpot contact is at the edge of overdamping, where the restitution hangs on "
               "the third digit of the damping and the impact is plastic, which the model does not describe (give a "

@@ -68,6 +68,12 @@ TEST_CASE("more than 1e9 steps are refused by judge_dt, naming the count, the li
   CHECK(has(v.warnings.front(), "1e+298 steps"));
   CHECK(has(v.warnings.front(), "limit of 1e+09 steps"));
   CHECK(has(v.warnings.front(), "--force"));
+  // Like every refusal of a scene's value, it names the file, line and key of the run's length
+  // (the issue's t_end of 4294967298 s was refused naming none).
+  const DtVerdict long_run = verdict_of(parse_scene(replaced(scene, "t_end: 0.01", "t_end: 4294967298"), "long.yaml"));
+  REQUIRE(long_run.unstable);
+  CHECK(has(long_run.warnings.front(), "long.yaml:11: key 't_end': t_end / dt = 4.29497e+09 s / 1e-06 s"));
+  CHECK(has(v.warnings.front(), "tiny.yaml:11: key 't_end'"));
   CHECK_FALSE(verdict_of(parse_scene(scene, "ok.yaml", {"t_end=999", "dt=1.0e-6"})).unstable);
   // Adaptive steps start from dt as a guess: not counted.
   CHECK_FALSE(verdict_of(parse_scene(scene, "adaptive.yaml", {"integrator=erk5", "rtol=1e-6", "dt=1e-12"})).unstable);
@@ -212,6 +218,28 @@ TEST_CASE("aliases that expand a scene beyond its own size are refused before it
   const auto t0 = std::chrono::steady_clock::now();
   CHECK(has(error_of(laughs + scene), "aliases (*name) repeat a part of it too often"));
   CHECK(seconds_since(t0) < hang_bound);
+}
+
+TEST_CASE("a fill that cannot fit is refused from the region's size before any disc is placed, and one that "
+          "exactly fits is not",
+          "[hostile]") {
+  auto fill = [](const std::string& region, long long count) {
+    return replaced(scene, "at: [[0.0, 0.01], [0.01, 0.01]]",
+                    "fill: {" + region + ", count: " + std::to_string(count) + ", seed: 3}");
+  };
+  // Discs of radius 2 mm in a 0.1 x 0.1 m box: at most 0.01 / (2 sqrt 3 4e-6) + 0.4 / 8e-3 + 1 =
+  // 772 (the hexagonal packing holds about 700). A million were placed one by one until the first
+  // found no room: minutes (the issue's fuzzer).
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string million = error_of(fill("rectangle: [-0.05, 0.005, 0.05, 0.105]", 1000000));
+  CHECK(has(million, "key 'particles.0.fill.count': 1000000 discs of radius 0.002 m cannot fit"));
+  CHECK(has(million, "at most 772 (Oler's bound"));
+  CHECK(seconds_since(t0) < 1);
+  // One disc in a box of its own diameter: its centre has one place, and it is found.
+  CHECK(error_of(fill("rectangle: [-0.002, 0.0, 0.002, 0.004]", 1)).empty());
+  // A non-convex region (an L) is judged by area alone: 0.0075 m^2 holds no more than 596 discs.
+  const std::string l_shape = "polygon: [[-0.05, 0.005], [0.05, 0.005], [0.05, 0.055], [0.0, 0.055], [0.0, 0.105], [-0.05, 0.105]]";
+  CHECK(has(error_of(fill(l_shape, 600)), "cannot fit in the region of 0.0075 m^2: at most 596 (their area alone)"));
 }
 
 TEST_CASE("an alias inside its own anchor, and a chain of anchors deeper than a scene nests, are refused with a "
