@@ -94,11 +94,20 @@ std::string fill_cannot_fit(const Region& region, long long count, const RadiusD
     if (cross * turn < 0) convex = false;
     if (cross != 0) turn = cross;
   }
+  // A polygon whose edges cross is filled even-odd (contains_disc), where the shoelace area
+  // cancels lobes against each other: no bound from it.
+  for (size_t i = 0; i < n; ++i)
+    for (size_t j = i + 2; j < n; ++j) {
+      if (i == 0 && j == n - 1) continue;  // adjacent through the closing edge
+      const Vec2 a = region.corners[i], b = region.corners[(i + 1) % n], c = region.corners[j], d = region.corners[(j + 1) % n];
+      auto side = [](Vec2 p, Vec2 q, Vec2 x) { return (q.x - p.x) * (x.y - p.y) - (q.y - p.y) * (x.x - p.x); };
+      if (side(a, b, c) * side(a, b, d) < 0 && side(c, d, a) * side(c, d, b) < 0) return "";
+    }
   const double most = convex ? area / (2 * std::sqrt(3.0) * r * r) + perimeter / (4 * r) + 1 : area / (M_PI * r * r);
   if (static_cast<double>(count) <= most) return "";
   std::ostringstream s;
   s.precision(4);
-  s << count << " discs of radius " << (radii.min == radii.max ? "" : "at least ") << r << " m cannot fit in the "
+  s << count << (count == 1 ? " disc" : " discs") << " of radius " << (radii.min == radii.max ? "" : "at least ") << r << " m cannot fit in the "
     << (convex ? "convex " : "") << "region of " << area << " m^2: at most " << std::floor(most)
     << (convex ? " (Oler's bound for discs in a convex region)" : " (their area alone)")
     << "; enlarge the region or lower the count";

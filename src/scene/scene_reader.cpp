@@ -38,7 +38,7 @@ class StructureWalk {
     // Chains of aliases, each anchor holding the one before, nest as deep as there are anchors.
     if (open_.size() >= max_nesting)
       throw InputError(at(node, path), "lists or maps nested more than " + std::to_string(max_nesting) +
-                                           " levels deep, aliases (*name) expanded: not a scene");
+                                           " levels deep (aliases (*name) expanded): not a scene");
     open_.push_back(node);
     if (node.IsSequence()) {
       size_t index = 0;
@@ -64,7 +64,7 @@ class StructureWalk {
       if (!fresh)
         throw InputError(here, "given twice (also " + describe_line(earlier->second) +
                                    "); YAML would keep only the first: remove one of them");
-      visit(kv.second, here.key);
+      visit(kv.second, join(path, key));  // the path below the origin: at() adds the origin's key once
     }
   }
   Location at(const YAML::Node& node, const std::string& path) const {

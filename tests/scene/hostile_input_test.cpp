@@ -240,6 +240,9 @@ TEST_CASE("a fill that cannot fit is refused from the region's size before any d
   // A non-convex region (an L) is judged by area alone: 0.0075 m^2 holds no more than 596 discs.
   const std::string l_shape = "polygon: [[-0.05, 0.005], [0.05, 0.005], [0.05, 0.055], [0.0, 0.055], [0.0, 0.105], [-0.05, 0.105]]";
   CHECK(has(error_of(fill(l_shape, 600)), "cannot fit in the region of 0.0075 m^2: at most 596 (their area alone)"));
+  // A bow-tie (edges crossing) is filled even-odd, two lobes of 0.0025 m^2, while its shoelace area
+  // is 0: it was refused for one disc. No bound is taken from such a polygon.
+  CHECK(error_of(fill("polygon: [[-0.05, 0.005], [0.05, 0.105], [0.05, 0.005], [-0.05, 0.105]]", 1)).empty());
 }
 
 TEST_CASE("an alias inside its own anchor, and a chain of anchors deeper than a scene nests, are refused with a "
@@ -256,11 +259,13 @@ TEST_CASE("an alias inside its own anchor, and a chain of anchors deeper than a 
   CHECK(looped.size() < 300);
   CHECK(has(error_of(replaced(scene, "copper: {", "copper: &base {<<: *base, ")),
             "key 'materials.copper.<<': an alias (*name) here stands for a list or map that contains it"));
+  // A --set value names its key once (it was repeated at every level: 'materials.materials.a.0').
+  CHECK(has(error_of(scene, {"materials={a: &x [*x]}"}), "--set: key 'materials.a.0': an alias"));
   // 200 anchors, each a list holding the one before: no cycle, few values, 200 levels deep.
   std::ostringstream chain;
   chain << "a0: &a0 [1]\n";
   for (int k = 1; k < 200; ++k) chain << 'a' << k << ": &a" << k << " [*a" << k - 1 << "]\n";
-  CHECK(has(error_of(chain.str() + scene), "nested more than 64 levels deep, aliases (*name) expanded"));
+  CHECK(has(error_of(chain.str() + scene), "nested more than 64 levels deep (aliases (*name) expanded)"));
 }
 
 TEST_CASE("lists nested thousands deep and more than 16 materials are refused before anything is built",
