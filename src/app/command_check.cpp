@@ -39,8 +39,9 @@ class CheckCommand final : public Command {
       std::printf("%s\n", j.dump(2).c_str());
       return verdict.unstable ? exit_refused : exit_success;
     }
-    std::printf("scene %s: %d particles, %zu wall segments, integrator %s, dt %.4g s\n", scene.name.c_str(),
-                scene.n_particles(), scene.segments.size(), scene.integrator.c_str(), scene.dt);
+    std::printf("scene %s: %d particle%s, %zu wall segment%s, integrator %s, dt %.4g s\n", scene.name.c_str(),
+                scene.n_particles(), scene.n_particles() == 1 ? "" : "s", scene.segments.size(),
+                scene.segments.size() == 1 ? "" : "s", scene.integrator.c_str(), scene.dt);
     if (scene.frozen) {
       std::printf("  mechanics frozen: no mechanical time step\n");
     } else {

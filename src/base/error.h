@@ -12,11 +12,19 @@ struct Location {
   std::string key;   // dotted path of the offending key
 };
 
+// A key path of up to 64 keys of 100 characters would make a message of kilobytes: a long one
+// keeps its first 60 and last 100 characters (the innermost keys, which the line points at).
+inline std::string shortened_key(const std::string& key) {
+  constexpr size_t head = 60, tail = 100;
+  if (key.size() <= head + tail + 5) return key;
+  return key.substr(0, head) + " ... " + key.substr(key.size() - tail);
+}
+
 inline std::string describe(const Location& at) {
   std::ostringstream s;
   s << at.file;
   if (at.line > 0) s << ':' << at.line;
-  if (!at.key.empty()) s << ": key '" << at.key << "'";
+  if (!at.key.empty()) s << ": key '" << shortened_key(at.key) << "'";
   return s.str();
 }
 

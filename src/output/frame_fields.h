@@ -34,7 +34,9 @@ struct FrameFieldInfo {
   FrameLayout layout;
   FramePresence when;
   bool zeros_when_absent;  // a frame may leave it null: zeros are written (scenes without rotation)
-  const char* xdmf_attribute;  // "Scalar" or "Vector": a particle attribute of result.xdmf; null: not one
+  // "Scalar" or "Vector": an attribute of result.xdmf (of each particle, or of the frame's walls grid
+  // as field data); null: not one (the grids' geometry, the time)
+  const char* xdmf_attribute;
 };
 
 inline constexpr FrameFieldInfo frame_fields[frame_field_count] = {
@@ -52,11 +54,11 @@ inline constexpr FrameFieldInfo frame_fields[frame_field_count] = {
     {FrameField::wall_segments, "wall_segments", "m", FrameOf::segments, FrameLayout::segment_rows,
      FramePresence::moving_walls, false, nullptr},  // the walls' geometry
     {FrameField::wall_force, "wall_force", "N", FrameOf::walls, FrameLayout::xy_pairs, FramePresence::walls, false,
-     nullptr},
+     "Vector"},
     {FrameField::wall_torque, "wall_torque", "N m", FrameOf::walls, FrameLayout::scalar, FramePresence::walls, false,
-     nullptr},
+     "Scalar"},
     {FrameField::wall_power, "wall_power", "W", FrameOf::walls, FrameLayout::scalar, FramePresence::walls, false,
-     nullptr},
+     "Scalar"},
 };
 
 constexpr const FrameFieldInfo& frame_field(FrameField f) { return frame_fields[static_cast<int>(f)]; }

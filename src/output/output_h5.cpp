@@ -30,6 +30,7 @@ H5Frames::H5Frames(const std::string& path, const ResultLayout& layout, int keep
   try {
     for (const FrameFieldInfo& f : frame_fields)
       if (present(f)) ds_[static_cast<int>(f.field)] = open(shape(f), keep);
+    drop_frame_views(keep);
     h5_check(H5Fflush(file_, H5F_SCOPE_GLOBAL), "write", path_);
   } catch (...) {
     abandon();
@@ -42,15 +43,7 @@ H5Frames::H5Frames(const std::string& path, const ResultLayout& layout, int keep
 
 H5Frames::~H5Frames() { abandon(); }
 
-bool H5Frames::present(const FrameFieldInfo& f) const {
-  switch (f.when) {
-    case FramePresence::always: return true;
-    case FramePresence::thermal: return layout_.thermal;
-    case FramePresence::moving_walls: return layout_.walls > 0 && layout_.walls_move;
-    case FramePresence::walls: return layout_.walls > 0;
-  }
-  return false;
-}
+bool H5Frames::present(const FrameFieldInfo& f) const { return in_result(f, layout_); }
 
 H5Frames::Shape H5Frames::shape(const FrameFieldInfo& f) const {
   const int items = f.of == FrameOf::particles ? layout_.particles
@@ -324,6 +317,61 @@ std::string H5Frames::text_attribute(const std::string& name) const {
   H5Aclose(attr);
   h5_check(status, "read an attribute of", path_);
   return value.substr(0, value.find('\0'));
+}
+
+namespace {
+std::string frame_group(int k) { return "/frames/" + std::to_string(k); }
+}  // namespace
+
+void H5Frames::drop_frame_views(int keep) {
+  if (H5Lexists(file_, "frames", H5P_DEFAULT) <= 0) return;
+  for (int k = keep; H5Lexists(file_, frame_group(k).c_str(), H5P_DEFAULT) > 0; ++k)
+    h5_check(H5Ldelete(file_, frame_group(k).c_str(), H5P_DEFAULT), "drop the frame views after the checkpoint in",
+             path_);
+}
+
+// Frame k of a dataset of frames as a dataset of its own: a virtual dataset (HDF5 1.10) that maps
+// the frame's slab of the source in this file ("."), so no value is stored twice.
+void H5Frames::write_frame_views() {
+  if (H5Lexists(file_, "frames", H5P_DEFAULT) <= 0) {
+    const hid_t g = h5_id(H5Gcreate2(file_, "frames", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), "create group 'frames' in", path_);
+    H5Gclose(g);
+  }
+  for (int k = 0; k < frames_; ++k) {
+    const std::string group = frame_group(k);
+    if (H5Lexists(file_, group.c_str(), H5P_DEFAULT) > 0) continue;  // a resumed run's earlier frames
+    const std::string what = "write the views of frame " + std::to_string(k) + " to";
+    const hid_t g = h5_id(H5Gcreate2(file_, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), what.c_str(), path_);
+    herr_t status = 0;
+    for (const FrameFieldInfo& f : frame_fields) {
+      const hid_t source = ds_[static_cast<int>(f.field)];
+      if (source < 0 || f.of == FrameOf::run || status < 0) continue;
+      const Shape s = shape(f);
+      const hsize_t start[3] = {static_cast<hsize_t>(k), 0, 0}, count[3] = {1, s.dims[0], s.dims[1]};
+      const hid_t view_space = H5Screate_simple(s.rank, s.dims, nullptr);
+      const hid_t source_space = H5Dget_space(source);
+      const hid_t props = H5Pcreate(H5P_DATASET_CREATE);
+      status = view_space < 0 || source_space < 0 || props < 0 ? -1 : H5Sselect_all(view_space);
+      if (status >= 0) status = H5Sselect_hyperslab(source_space, H5S_SELECT_SET, start, nullptr, count, nullptr);
+      if (status >= 0) status = H5Pset_virtual(props, view_space, ".", s.name, source_space);
+      const hid_t view =
+          status < 0 ? -1 : H5Dcreate2(g, s.name, H5T_NATIVE_DOUBLE, view_space, H5P_DEFAULT, props, H5P_DEFAULT);
+      if (view < 0) status = -1;
+      if (view >= 0) {
+        try {
+          units(view, s.units, group + "/" + s.name);
+        } catch (...) {
+          status = -1;
+        }
+        H5Dclose(view);
+      }
+      if (props >= 0) H5Pclose(props);
+      if (source_space >= 0) H5Sclose(source_space);
+      if (view_space >= 0) H5Sclose(view_space);
+    }
+    H5Gclose(g);
+    h5_check(status, what.c_str(), path_);
+  }
 }
 
 void H5Frames::close() {

@@ -14,6 +14,9 @@
 //                                         2 S points (result.xdmf's polyline topology)
 //   (wall_force (F x W x 3) is what the particles exert on each wall, z = 0; wall_torque its
 //   torque about the wall's centre, counter-clockwise; wall_power the power the wall delivers)
+// and, at the end of a run, per frame k a group /frames/k of views (HDF5 virtual datasets) of
+// frame k of each dataset of frames but time: /frames/k/position (N x 3), ... (result.xdmf reads
+// them: ParaView's Xdmf3 readers read no HyperSlab)
 // and the tables case observers add at the end of a run (src/observers/observer.h), e.g.
 //   impact_energy_histogram (W x B) 1, impact_energy_bin_edges (B + 1) J   (wall_impacts)
 // Attributes of the file: scene, integrator, dt, kiln_version, run_id, and with walls
@@ -69,6 +72,9 @@ class H5Frames {
                    const double* fixed_segments);
   void append(const H5Frame& f);  // then a flush
   void write_table(const ResultTable& table);  // replaces a table of that name (a resumed run's)
+  // /frames/k/<name> for every frame k and dataset of frames but `time`: frame k as a dataset of its
+  // own (a virtual one, no copy), which result.xdmf reads. At the end of a run: each frame once.
+  void write_frame_views();
   int frames() const { return frames_; }
   // The frames of run `run_id` that the file at `path` holds, read only; -1 when it cannot be read
   // or is another run's.
@@ -88,6 +94,7 @@ class H5Frames {
   Shape shape(const FrameFieldInfo& f) const;
   hid_t create(const Shape& s);
   hid_t open(const Shape& s, int keep);
+  void drop_frame_views(int keep);  // those of the frames after `keep`
   void extend_and_write(FrameField f, const double* data);
   void units(hid_t object, const char* units, const std::string& dataset);
   void write_array(const char* name, hid_t type, int rank, const hsize_t* dims, const void* data, const char* units);

@@ -9,88 +9,85 @@ namespace kiln {
 
 namespace {
 
-// A whole dataset of result.h5.
-std::string whole(const std::string& h5, const char* dataset, const std::string& dims, bool integer = false,
-                  int precision = 8) {
+// A whole dataset of result.h5 (a per-frame view of one: /frames/k/name).
+std::string item(const std::string& h5, const std::string& dataset, const std::string& dims, bool integer = false,
+                 int precision = 8) {
   std::ostringstream s;
   s << "<DataItem Dimensions=\"" << dims << "\" NumberType=\"" << (integer ? "Int" : "Float") << "\" Precision=\""
-    << precision << "\" Format=\"HDF\">" << h5 << ":/" << dataset << "</DataItem>";
+    << precision << "\" Format=\"HDF\">" << h5 << ":" << dataset << "</DataItem>";
   return s.str();
 }
 
-// Frame k of a dataset of `frames` frames of shape `frame` (one or two sizes): a HyperSlab whose
-// result has the frame's shape.
-std::string frame_of(const std::string& h5, const char* dataset, size_t k, size_t frames, std::vector<size_t> frame,
-                     const std::string& indent) {
-  const size_t rank = frame.size() + 1;
-  std::ostringstream dims, start, stride, count;
-  start << k;
-  stride << 1;
-  count << 1;
-  for (size_t i = 0; i < frame.size(); ++i) {
-    dims << (i ? " " : "") << frame[i];
-    start << " 0";
-    stride << " 1";
-    count << " " << frame[i];
-  }
-  std::ostringstream s;
-  s << indent << "<DataItem ItemType=\"HyperSlab\" Dimensions=\"" << dims.str() << "\" Type=\"HyperSlab\">\n"
-    << indent << "  <DataItem Dimensions=\"3 " << rank << "\" Format=\"XML\">" << start.str() << " " << stride.str()
-    << " " << count.str() << "</DataItem>\n"
-    << indent << "  " << whole(h5, dataset, std::to_string(frames) + " " + dims.str()) << "\n"
-    << indent << "</DataItem>\n";
-  return s.str();
+std::string frame_view(size_t k, const char* name) { return "/frames/" + std::to_string(k) + "/" + name; }
+
+// The dimensions of one frame of a field.
+std::string frame_dims(const FrameFieldInfo& f, const ResultLayout& l) {
+  const size_t items = f.of == FrameOf::particles ? l.particles : f.of == FrameOf::segments ? l.segments : l.walls;
+  return std::to_string(items) + (f.layout == FrameLayout::scalar         ? ""
+                                  : f.layout == FrameLayout::segment_rows ? " 4"
+                                                                          : " 3");
 }
+
 
 }  // namespace
 
-// Per frame: a spatial collection (stamped with the frame's time) of the particles and the walls.
+// Two temporal collections, `particles` and `walls`, of one uniform grid per frame, stamped with
+// the frame's time. The Domain's two series keep their place (and, in the legacy reader, their
+// name) at every time; a spatial collection per frame would name its grids anew per frame.
 std::string xdmf_document(const std::string& h5, const ResultLayout& layout, const std::vector<double>& times) {
-  const size_t frames = times.size(), n = static_cast<size_t>(layout.particles),
-               s = static_cast<size_t>(layout.segments);
-  const std::string in = "            ";  // the DataItems of an Attribute or Geometry
+  const size_t n = static_cast<size_t>(layout.particles), s = static_cast<size_t>(layout.segments);
+  const std::string N = std::to_string(n), S = std::to_string(s);
   std::ostringstream x;
-  auto attribute = [&](const char* name, const char* type, const char* centre, const std::string& item) {
-    x << "          <Attribute Name=\"" << name << "\" AttributeType=\"" << type << "\" Center=\"" << centre << "\">\n"
-      << item << "          </Attribute>\n";
+  auto attribute = [&](const char* name, const char* type, const char* centre, const std::string& data) {
+    x << "        <Attribute Name=\"" << name << "\" AttributeType=\"" << type << "\" Center=\"" << centre << "\">"
+      << data << "</Attribute>\n";
   };
-  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n"
-    << "    <Grid Name=\"kiln\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
-  for (size_t k = 0; k < frames; ++k) {
+  auto time = [&](size_t k) {
     char t[32];
     std::snprintf(t, sizeof t, "%.17g", times[k]);
-    x << "      <Grid Name=\"frame" << k << "\" GridType=\"Collection\" CollectionType=\"Spatial\">\n"
-      << "        <Time Value=\"" << t << "\"/>\n"
-      << "        <Grid Name=\"particles\" GridType=\"Uniform\">\n"
-      << "          <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\" NodesPerElement=\"1\"/>\n"
-      << "          <Geometry GeometryType=\"XYZ\">\n"
-      << frame_of(h5, "position", k, frames, {n, 3}, in) << "          </Geometry>\n";
-    attribute("radius", "Scalar", "Node", in + whole(h5, "radius", std::to_string(n)) + "\n");
-    for (const FrameFieldInfo& f : frame_fields) {
-      if (f.of != FrameOf::particles || !f.xdmf_attribute) continue;
-      if (f.when == FramePresence::thermal && !layout.thermal) continue;
-      const bool vector = f.layout != FrameLayout::scalar;
-      attribute(f.name, f.xdmf_attribute, "Node",
-                frame_of(h5, f.name, k, frames, vector ? std::vector<size_t>{n, 3} : std::vector<size_t>{n}, in));
-    }
-    attribute("id", "Scalar", "Node", in + whole(h5, "id", std::to_string(n), true, 8) + "\n");
-    x << "        </Grid>\n";
-    if (layout.walls > 0) {
-      // Segment j joins points 2j and 2j + 1: its row (x_a, y_a, x_b, y_b) read as two XY pairs.
-      x << "        <Grid Name=\"walls\" GridType=\"Uniform\">\n"
-        << "          <Topology TopologyType=\"Polyline\" NumberOfElements=\"" << s << "\" NodesPerElement=\"2\">\n"
-        << in << whole(h5, "wall_connectivity", std::to_string(s) + " 2", true, 4) << "\n"
-        << "          </Topology>\n"
-        << "          <Geometry GeometryType=\"XY\">\n"
-        << (layout.walls_move ? frame_of(h5, "wall_segments", k, frames, {s, 4}, in)
-                              : in + whole(h5, "wall_segments", std::to_string(s) + " 4") + "\n")
-        << "          </Geometry>\n";
-      attribute("wall", "Scalar", "Cell", in + whole(h5, "wall_of_segment", std::to_string(s), true, 4) + "\n");
-      x << "        </Grid>\n";
-    }
+    x << "        <Time Value=\"" << t << "\"/>\n";
+  };
+  x << "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n"
+    << "    <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+  for (size_t k = 0; k < times.size(); ++k) {
+    x << "      <Grid Name=\"particles\" GridType=\"Uniform\">\n";
+    time(k);
+    // Point i is the vertex cell i (its connectivity is the id 0 .. N-1): the Xdmf3 readers make
+    // no cells of a Polyvertex topology without one.
+    x << "        <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"" << n << "\" NodesPerElement=\"1\">"
+      << item(h5, "/id", N, true) << "</Topology>\n"
+      << "        <Geometry GeometryType=\"XYZ\">" << item(h5, frame_view(k, "position"), N + " 3")
+      << "</Geometry>\n";
+    attribute("radius", "Scalar", "Node", item(h5, "/radius", N));
+    for (const FrameFieldInfo& f : frame_fields)
+      if (f.of == FrameOf::particles && f.xdmf_attribute && in_result(f, layout))
+        attribute(f.name, f.xdmf_attribute, "Node", item(h5, frame_view(k, f.name), frame_dims(f, layout)));
+    attribute("id", "Scalar", "Node", item(h5, "/id", N, true));
     x << "      </Grid>\n";
   }
-  x << "    </Grid>\n  </Domain>\n</Xdmf>\n";
+  x << "    </Grid>\n";
+  if (layout.walls > 0) {
+    x << "    <Grid Name=\"walls\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    for (size_t k = 0; k < times.size(); ++k) {
+      // Segment j joins points 2j and 2j + 1: its row (x_a, y_a, x_b, y_b) read as two XY pairs.
+      x << "      <Grid Name=\"walls\" GridType=\"Uniform\">\n";
+      time(k);
+      x << "        <Topology TopologyType=\"Polyline\" NumberOfElements=\"" << s << "\" NodesPerElement=\"2\">"
+        << item(h5, "/wall_connectivity", S + " 2", true, 4) << "</Topology>\n"
+        << "        <Geometry GeometryType=\"XY\">"
+        << item(h5, layout.walls_move ? frame_view(k, "wall_segments") : "/wall_segments", S + " 4")
+        << "</Geometry>\n";
+      attribute("wall", "Scalar", "Cell", item(h5, "/wall_of_segment", S, true, 4));
+      // The loads on each wall (W tuples, in the order of wall_names): field data of the frame.
+      for (const FrameFieldInfo& f : frame_fields)
+        if (f.of == FrameOf::walls && f.xdmf_attribute && in_result(f, layout))
+          attribute(f.name, f.xdmf_attribute, "Grid",
+                    item(h5, frame_view(k, f.name), frame_dims(f, layout)));
+      x << "      </Grid>\n";
+    }
+    x << "    </Grid>\n";
+  }
+  x << "  </Domain>\n</Xdmf>\n";
   return x.str();
 }
 

@@ -9,6 +9,7 @@
 #include "src/base/atomic_write.h"
 #include "src/output/colour_scale.h"
 #include "src/base/vec2.h"
+#include "src/output/frame_fields.h"
 
 namespace kiln {
 
@@ -21,10 +22,24 @@ struct ResultLayout {
   bool walls_move = false;  // wall_segments per frame (F x S x 4), otherwise once (S x 4)
 };
 
-// result.xdmf for ParaView: per frame, a spatial collection of the particles (points: XYZ geometry
-// from `position`, radius, velocity as a vector, angle, angular_velocity, temperature, id) and,
-// when there are walls, the walls (2 S points of XY read from the rows (x_a, y_a, x_b, y_b) of
-// `wall_segments`, S two-node polylines by `wall_connectivity`, each with the index of its wall).
+// Whether result.h5 holds the field (frame_fields.h) in a run of this layout.
+inline bool in_result(const FrameFieldInfo& f, const ResultLayout& l) {
+  switch (f.when) {
+    case FramePresence::always: return true;
+    case FramePresence::thermal: return l.thermal;
+    case FramePresence::moving_walls: return l.walls > 0 && l.walls_move;
+    case FramePresence::walls: return l.walls > 0;
+  }
+  return false;
+}
+
+// result.xdmf for ParaView: two time series (temporal collections, one uniform grid per frame),
+// the particles (vertices at `position`, with radius, velocity as a vector, angle,
+// angular_velocity, temperature, id) and, when there are walls, the walls (2 S points of XY read
+// from the rows (x_a, y_a, x_b, y_b) of `wall_segments`, S two-node polylines by
+// `wall_connectivity`, each with the index of its wall; the frame's wall_force, wall_torque and
+// wall_power as field data). Every per-frame item is a view /frames/k/<name> of result.h5, read
+// whole (H5Frames::write_frame_views), never a HyperSlab.
 std::string xdmf_document(const std::string& h5_name, const ResultLayout& layout, const std::vector<double>& times);
 
 // Where write_picture draws: the image's size and the pixel (from its top left corner) of a point.

@@ -4,6 +4,7 @@
 #include <sys/file.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -68,7 +69,7 @@ ResultLayout result_layout(const DemSystem& sys) {
   l.particles = sys.particles();
   l.thermal = sys.thermal();
   l.walls = static_cast<int>(sys.scene().walls.size());
-  l.segments = static_cast<int>(sys.scene().segments.size());
+  for (int pieces : pieces_of_segments(sys)) l.segments += pieces;
   l.walls_move = walls_move(sys);
   return l;
 }
@@ -85,7 +86,7 @@ void RunOutputs::lock_directory() {
 }
 
 RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id)
-    : dir_(dir), sys_(sys), layout_(result_layout(sys)) {
+    : dir_(dir), sys_(sys), layout_(result_layout(sys)), pieces_(pieces_of_segments(sys)) {
   lock_directory();
   move_aside(dir_);
   try {
@@ -101,7 +102,7 @@ RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::
     h5_->write_constant(r);
     if (layout_.walls > 0) {
       std::vector<int> wall_of_segment;
-      for (const Segment& seg : scene.segments) wall_of_segment.push_back(seg.wall);
+      for (size_t k = 0; k < scene.segments.size(); ++k) wall_of_segment.insert(wall_of_segment.end(), pieces_[k], scene.segments[k].wall);
       std::vector<std::string> names;
       for (const Wall& w : scene.walls) names.push_back(w.name);
       if (!layout_.walls_move) {
@@ -121,7 +122,7 @@ RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::
 
 RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id, int frames,
                        const Snapshot& checkpoint)
-    : dir_(dir), sys_(sys), layout_(result_layout(sys)), resumed_from_(&checkpoint) {
+    : dir_(dir), sys_(sys), layout_(result_layout(sys)), pieces_(pieces_of_segments(sys)), resumed_from_(&checkpoint) {
   lock_directory();
   // The result holding this run's frames up to the checkpoint: the result.h5.tmp of a killed run
   // (a killed resumed run's holds more than result.h5), the frames of a killed run kept by an
@@ -180,28 +181,64 @@ void RunOutputs::clean_up() {
 
 namespace {
 
-// Walls as they are seen in a periodic cell: each segment shifted by whole periods so that its
-// middle lies in the cell (a wall driven along a periodic axis has travelled many periods).
-void place_in_cell(const PeriodicCell& cell, std::vector<Vec2>& a, std::vector<Vec2>& b) {
-  if (!cell.any()) return;
-  for (size_t s = 0; s < a.size(); ++s) {
-    const Vec2 middle = 0.5 * (a[s] + b[s]);
-    const Vec2 shift = cell.wrap(middle) - middle;
-    a[s] = a[s] + shift;
-    b[s] = b[s] + shift;
+// How many pieces a segment of length `length` is written as in the cell: one, and one more per
+// edge of a periodic axis it can cross (a rigid wall's length is its own at every time).
+int pieces_in_cell(const PeriodicCell& cell, double length) {
+  int pieces = 1;
+  if (cell.x) pieces += static_cast<int>(std::ceil(length / cell.length_x()));
+  if (cell.y) pieces += static_cast<int>(std::ceil(length / cell.length_y()));
+  return pieces;
+}
+
+// A segment as it is seen in a periodic cell: cut where it crosses the cell's edges, each piece
+// moved by whole periods into the cell (a wall driven along a periodic axis has travelled many
+// periods, and a lid as long as the period crosses an edge at almost every frame). `pieces` slots
+// are filled: those it does not need are of zero length at its last end.
+void cut_into_cell(const PeriodicCell& cell, Vec2 a, Vec2 b, int pieces, std::vector<Vec2>& ends) {
+  if (!cell.any()) {
+    ends.push_back(a);
+    ends.push_back(b);
+    return;
+  }
+  const Vec2 start = cell.wrap(a), d = b - a;
+  std::vector<double> cuts = {0.0, 1.0};  // where the segment crosses x0 + k Lx or y0 + m Ly
+  auto crossings = [&](bool periodic, double from, double delta, double origin, double period) {
+    if (!periodic || delta == 0) return;
+    const double lo = std::min(from, from + delta), hi = std::max(from, from + delta);
+    for (double e = origin + period * std::ceil((lo - origin) / period); e < hi; e += period)
+      if (e > lo) cuts.push_back((e - from) / delta);
+  };
+  crossings(cell.x, start.x, d.x, cell.x0, cell.length_x());
+  crossings(cell.y, start.y, d.y, cell.y0, cell.length_y());
+  std::sort(cuts.begin(), cuts.end());
+  for (size_t k = 0; k + 1 < cuts.size() && static_cast<int>(k) < pieces; ++k) {
+    const Vec2 p = start + cuts[k] * d, q = start + cuts[k + 1] * d;
+    const Vec2 shift = cell.wrap(0.5 * (p + q)) - 0.5 * (p + q);
+    ends.push_back(p + shift);
+    ends.push_back(q + shift);
+  }
+  for (int k = static_cast<int>(cuts.size()) - 1; k < pieces; ++k) {
+    const Vec2 last = ends.back();
+    ends.push_back(last);
+    ends.push_back(last);
   }
 }
 
 }  // namespace
 
+std::vector<int> pieces_of_segments(const DemSystem& sys) {
+  std::vector<int> pieces;
+  for (const Segment& seg : sys.scene().segments) pieces.push_back(pieces_in_cell(sys.cell(), norm(seg.b - seg.a)));
+  return pieces;
+}
+
 void RunOutputs::segments_rows() {
-  place_in_cell(sys_.cell(), wall_a_, wall_b_);
-  segments_.resize(4 * wall_a_.size());
-  for (size_t s = 0; s < wall_a_.size(); ++s) {
-    segments_[4 * s] = wall_a_[s].x;
-    segments_[4 * s + 1] = wall_a_[s].y;
-    segments_[4 * s + 2] = wall_b_[s].x;
-    segments_[4 * s + 3] = wall_b_[s].y;
+  ends_.clear();
+  for (size_t s = 0; s < wall_a_.size(); ++s) cut_into_cell(sys_.cell(), wall_a_[s], wall_b_[s], pieces_[s], ends_);
+  segments_.resize(2 * ends_.size());
+  for (size_t e = 0; e < ends_.size(); ++e) {
+    segments_[2 * e] = ends_[e].x;
+    segments_[2 * e + 1] = ends_[e].y;
   }
 }
 
@@ -288,8 +325,13 @@ PictureInput RunOutputs::picture(double t, const double* y, const std::string& t
     pic.of_wall.push_back(sys_.attached(i));
   }
   pic.value_label = sys_.thermal() ? "temperature (C)" : "speed (m/s)";
-  sys_.wall_geometry(t, y, pic.wall_a, pic.wall_b);  // where the walls are at t, moving ones too
-  place_in_cell(sys_.cell(), pic.wall_a, pic.wall_b);
+  std::vector<Vec2> a, b, ends;
+  sys_.wall_geometry(t, y, a, b);  // where the walls are at t, moving ones too
+  for (size_t s = 0; s < a.size(); ++s) cut_into_cell(sys_.cell(), a[s], b[s], pieces_[s], ends);
+  for (size_t e = 0; e < ends.size(); e += 2) {
+    pic.wall_a.push_back(ends[e]);
+    pic.wall_b.push_back(ends[e + 1]);
+  }
   pic.title = title;
   return pic;
 }
@@ -302,6 +344,7 @@ void RunOutputs::checkpoint(const Snapshot& s) {
 void RunOutputs::finish(double t, const double* y, const nlohmann::json& summary, const std::string& title,
                         const std::vector<ResultTable>& tables) {
   for (const ResultTable& table : tables) h5_->write_table(table);
+  h5_->write_frame_views();
   h5_->close();
   PictureInput pic = picture(t, y, title);
   pic.subtitle = how_it_ended(summary);

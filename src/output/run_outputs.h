@@ -36,6 +36,10 @@ ResultLayout result_layout(const DemSystem& sys);
 // Whether result.h5 records the wall segments of every frame: some wall can move. (A wall whose
 // position a later kind of motion takes from the state moves too: only this predicate changes.)
 bool walls_move(const DemSystem& sys);
+// Per segment of the scene, the rows of wall_segments it is written as: 1 in a cell that is not
+// periodic; in a periodic one, 1 + one per edge it can cross (cut where it crosses them, each
+// piece shown in the cell; unused rows are of zero length).
+std::vector<int> pieces_of_segments(const DemSystem& sys);
 // The picture's second line from a run's summary: how the run ended (t_end, at rest, frozen, a
 // signal), and its steps with the integrator of each stage.
 std::string how_it_ended(const nlohmann::json& summary);
@@ -68,16 +72,17 @@ class RunOutputs {
   std::string path(const std::string& name) const;
   // The final state's picture: particles and walls where they are at t.
   PictureInput picture(double t, const double* y, const std::string& title) const;
-  void segments_rows();  // wall_a_, wall_b_ into segments_ (x_a, y_a, x_b, y_b per segment)
+  void segments_rows();  // wall_a_, wall_b_ into segments_ (x_a, y_a, x_b, y_b per written piece)
   void lock_directory();
   void clean_up();  // a run that did not finish
   std::string dir_;
   const DemSystem& sys_;
   const ResultLayout layout_;
+  const std::vector<int> pieces_;  // per scene segment: the rows it is written as (pieces_of_segments)
   std::unique_ptr<H5Frames> h5_;
   std::vector<double> times_;
   // Scratch of frame(): the wall segments and loads of one frame.
-  std::vector<Vec2> wall_a_, wall_b_;
+  std::vector<Vec2> wall_a_, wall_b_, ends_;
   std::vector<double> segments_, wall_force_, wall_torque_, wall_power_;
   std::vector<double> wrapped_;  // periodic cells: positions wrapped into the cell
   bool checkpointed_ = false;  // this run wrote checkpoint.h5

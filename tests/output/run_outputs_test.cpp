@@ -399,8 +399,17 @@ TEST_CASE("a resumed run cuts and extends every dataset of frames alike", "[outp
   const hsize_t frames = dims_of(h5, "time").at(0);
   CHECK(frames == 11);
   std::vector<std::string> of_frames;
+  int views = 0;  // /frames/k/<name>: those of frames the first run had were kept, of the others made anew
+  for (const std::string& name : datasets_of(whole / "result.h5"))
+    if (name.rfind("frames/", 0) == 0) {
+      INFO(name);
+      ++views;
+      CHECK(testing::read_dataset(h5, name.c_str()) == testing::read_dataset(whole / "result.h5", name.c_str()));
+    }
+  CHECK(views == 11 * 8);  // position, velocity, angle, angular_velocity, wall_segments and the three loads
+  CHECK(datasets_of(h5).size() == datasets_of(whole / "result.h5").size());
   for (const std::string& name : datasets_of(h5))
-    if (!constant_dataset(h5, name)) {
+    if (!constant_dataset(h5, name) && name.rfind("frames/", 0) != 0) {
       INFO(name);
       of_frames.push_back(name);
       CHECK(dims_of(h5, name).at(0) == frames);
@@ -438,18 +447,21 @@ TEST_CASE("reopening result.h5 to resume cuts every dataset of frames to the che
       f.t = k;
       h5.append(f);
     }
+    h5.write_frame_views();
     h5.close();
   }
   const std::vector<std::string> names = datasets_of(file);
-  CHECK(names.size() == 14);  // 10 of frames, radius, id, wall_of_segment, wall_connectivity
+  // 10 of frames, radius, id, wall_of_segment, wall_connectivity; the 9 views of each of 5 frames
+  CHECK(names.size() == 14 + 5 * 9);
   {
     H5Frames h5(file.string(), layout, 3);
     CHECK(h5.times() == std::vector<double>{0, 1, 2});
     h5.close();
   }
+  CHECK(datasets_of(file).size() == 14 + 3 * 9);  // the views of the frames after the checkpoint are gone
   int of_frames = 0;
   for (const std::string& name : names)
-    if (!constant_dataset(file, name)) {
+    if (!constant_dataset(file, name) && name.rfind("frames/", 0) != 0) {
       INFO(name);
       ++of_frames;
       CHECK(dims_of(file, name).at(0) == 3);
@@ -463,39 +475,25 @@ TEST_CASE("reopening result.h5 to resume cuts every dataset of frames to the che
 
 namespace {
 
-// What result.xdmf describes, as python3's XML parser reads it: one line per frame (its time),
-// grid (name, topology, elements, nodes per element, geometry type), geometry (its grid and
-// dimensions) and data item (a whole HDF dataset: hdf|file:/name|dims; a frame of one:
-// slab|dims|start|stride|count|file:/name|dataset dims).
+// What result.xdmf describes, as python3's XML parser reads it: one line per frame of each series
+// (time|series|k|value), grid (grid|series|topology|elements|nodes per element|geometry type) and
+// data item (hdf|k|file:/name|dims: a whole dataset, never a HyperSlab, which ParaView's Xdmf3
+// readers cannot type).
 const char* xdmf_reader = R"(import sys, xml.etree.ElementTree as ET
 root = ET.parse(sys.argv[1]).getroot()
 assert root.tag == 'Xdmf'
-series = root.find('Domain').findall('Grid')
-assert len(series) == 1 and series[0].get('CollectionType') == 'Temporal'
-def items(node):
-    for d in node.findall('DataItem'):
-        if d.get('ItemType') == 'HyperSlab':
-            sel, ref = d.findall('DataItem')
-            v = sel.text.split()
-            r = len(v) // 3
-            assert sel.get('Dimensions') == '3 %d' % r and len(v) == 3 * r
-            print('slab|%s|%s|%s|%s|%s|%s' % (d.get('Dimensions'), ' '.join(v[:r]), ' '.join(v[r:2 * r]),
-                                              ' '.join(v[2 * r:]), ref.text.strip(), ref.get('Dimensions')))
-        else:
-            assert d.get('Format') == 'HDF'
-            print('hdf|%s|%s' % (d.text.strip(), d.get('Dimensions')))
-for frame in series[0].findall('Grid'):
-    assert frame.get('CollectionType') == 'Spatial'
-    print('time|' + frame.find('Time').get('Value'))
-    for grid in frame.findall('Grid'):
+for series in root.find('Domain').findall('Grid'):
+    assert series.get('CollectionType') == 'Temporal' and series.get('Name') in ('particles', 'walls')
+    for k, grid in enumerate(series.findall('Grid')):
+        assert grid.get('GridType') == 'Uniform' and grid.get('Name') == series.get('Name')
+        print('time|%s|%d|%s' % (series.get('Name'), k, grid.find('Time').get('Value')))
         top, geo = grid.find('Topology'), grid.find('Geometry')
         print('grid|%s|%s|%s|%s|%s' % (grid.get('Name'), top.get('TopologyType'), top.get('NumberOfElements'),
                                        top.get('NodesPerElement'), geo.get('GeometryType')))
-        print('geometry|%s|%s' % (grid.get('Name'), geo.find('DataItem').get('Dimensions')))
-        items(top)
-        items(geo)
-        for a in grid.findall('Attribute'):
-            items(a)
+        for node in [top, geo] + grid.findall('Attribute'):
+            for d in node.findall('DataItem'):
+                assert d.get('ItemType') is None and d.get('Format') == 'HDF'
+                print('hdf|%d|%s|%s' % (k, d.text.strip(), d.get('Dimensions')))
 )";
 
 std::vector<std::string> split(const std::string& text, char by) {
@@ -512,14 +510,9 @@ std::vector<hsize_t> numbers(const std::string& text) {
   return v;
 }
 
-hsize_t product(const std::vector<hsize_t>& v) {
-  hsize_t p = 1;
-  for (hsize_t x : v) p *= x;
-  return p;
-}
-
 // Checks that dir/result.xdmf parses and that everything it refers to is in dir/result.h5 with
-// the dimensions it states; returns the number of frames with a walls grid.
+// the dimensions it states (frame k's items in /frames/k); returns the number of frames of the
+// walls series.
 int check_xdmf(const fs::path& dir) {
   const fs::path script = dir / "read_xdmf.py", listing = dir / "xdmf.txt", h5 = dir / "result.h5";
   std::ofstream(script) << xdmf_reader;
@@ -527,64 +520,41 @@ int check_xdmf(const fs::path& dir) {
   REQUIRE(std::system(cmd.c_str()) == 0);
   std::ifstream in(listing);
   const std::vector<double> time = testing::read_dataset(h5, "time");
-  const hsize_t frames = time.size();
-  size_t frame = 0;
-  int walls = 0, particles = 0;
-  hsize_t points = 0, per_point = 0;  // of the latest grid
+  std::map<std::string, size_t> frames;  // of each series
   for (std::string line; std::getline(in, line);) {
     INFO(line);
     const std::vector<std::string> f = split(line, '|');
     REQUIRE(!f.empty());
     if (f[0] == "time") {
-      REQUIRE(frame < frames);
-      CHECK(std::stod(f[1]) == time[frame++]);
+      REQUIRE(f.size() == 4);
+      const size_t k = frames[f[1]]++;
+      CHECK(std::stoul(f[2]) == k);
+      REQUIRE(k < time.size());
+      CHECK(std::stod(f[3]) == time[k]);
     } else if (f[0] == "grid") {
       REQUIRE(f.size() == 6);
       const hsize_t elements = std::stoull(f[3]);
       if (f[1] == "particles") {
-        ++particles;
         CHECK(f[2] == "Polyvertex");
+        CHECK(f[5] == "XYZ");
         CHECK(elements == dims_of(h5, "radius").at(0));
-        points = elements;
       } else {
-        ++walls;
-        CHECK(f[1] == "walls");
         CHECK(f[2] == "Polyline");
         CHECK(f[4] == "2");
+        CHECK(f[5] == "XY");
         CHECK(elements == dims_of(h5, "wall_of_segment").at(0));
-        points = 2 * elements;
       }
-      per_point = f[5] == "XYZ" ? 3 : f[5] == "XY" ? 2 : 0;
-      CHECK(per_point > 0);
-    } else if (f[0] == "geometry") {
-      CHECK(product(numbers(f[2])) == points * per_point);
-    } else if (f[0] == "hdf") {
-      REQUIRE(f.size() == 3);
-      REQUIRE(f[1].rfind("result.h5:/", 0) == 0);
-      CHECK(dims_of(h5, f[1].substr(11)) == numbers(f[2]));
     } else {
-      REQUIRE(f[0] == "slab");
-      REQUIRE(f.size() == 7);
-      REQUIRE(f[5].rfind("result.h5:/", 0) == 0);
-      const std::vector<hsize_t> dims = dims_of(h5, f[5].substr(11));
-      CHECK(dims == numbers(f[6]));
-      CHECK(dims.at(0) == frames);
-      const auto start = numbers(f[2]), stride = numbers(f[3]), count = numbers(f[4]);
-      REQUIRE(start.size() == dims.size());
-      REQUIRE(stride.size() == dims.size());
-      REQUIRE(count.size() == dims.size());
-      CHECK(start[0] == frame - 1);  // the frame of the grid it belongs to
-      CHECK(count[0] == 1);
-      for (size_t k = 0; k < dims.size(); ++k) {
-        CHECK(stride[k] == 1);
-        CHECK(start[k] + count[k] <= dims[k]);
-      }
-      CHECK(product(count) == product(numbers(f[1])));
+      REQUIRE(f[0] == "hdf");
+      REQUIRE(f.size() == 4);
+      REQUIRE(f[2].rfind("result.h5:/", 0) == 0);
+      const std::string name = f[2].substr(11);
+      if (name.rfind("frames/", 0) == 0) CHECK(name.rfind("frames/" + f[1] + "/", 0) == 0);  // its own frame
+      CHECK(dims_of(h5, name) == numbers(f[3]));
     }
   }
-  CHECK(frame == frames);
-  CHECK(particles == static_cast<int>(frames));
-  return walls;
+  CHECK(frames["particles"] == time.size());
+  return static_cast<int>(frames["walls"]);
 }
 
 }  // namespace
@@ -596,7 +566,7 @@ TEST_CASE("result.xdmf parses and refers to datasets of result.h5 with their dim
     CHECK(check_xdmf(dir) == 11);
     std::ifstream in(dir / "result.xdmf");
     const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    CHECK(text.find("10 0 0 1 1 1 1 3 4") != std::string::npos);  // the last frame's slab of (11 x 3 x 4)
+    CHECK(text.find("result.h5:/frames/10/wall_segments") != std::string::npos);  // the last frame's
     fs::remove_all(dir);
   }
   SECTION("fixed walls: the walls grid reads the constant wall_segments") {
@@ -611,7 +581,7 @@ TEST_CASE("result.xdmf parses and refers to datasets of result.h5 with their dim
     check_xdmf(dir);
     std::ifstream in(dir / "result.xdmf");
     const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-    CHECK(text.find("result.h5:/temperature") != std::string::npos);
+    CHECK(text.find("result.h5:/frames/0/temperature") != std::string::npos);
     fs::remove_all(dir);
   }
 }
@@ -671,12 +641,26 @@ t_end: 0.1
 output_interval: 0.01
 )";
   run_scene(parse_scene(scene, "driven.yaml"), {dir.string(), true});
+  // Each segment is written as 2 pieces (cut where it crosses x = 0 or 0.02), every piece inside
+  // the cell and, per frame, the lid's pieces 0.02 long in all (before: one row, shifted by its
+  // middle, which left half the lid outside the cell whenever it straddled the edge).
   const std::vector<double> segments = testing::read_dataset(dir / "result.h5", "wall_segments");
-  REQUIRE(segments.size() == 11 * 2 * 4);
-  for (size_t k = 0; k < segments.size(); k += 4) {
-    const double middle = 0.5 * (segments[k] + segments[k + 2]);
-    CHECK(middle >= -1e-15);  // round-off of the shift
-    CHECK(middle < 0.02 + 1e-15);
+  REQUIRE(segments.size() == 11 * 4 * 4);
+  CHECK(read_ints(dir / "result.h5", "wall_of_segment") == std::vector<int>{0, 0, 1, 1});
+  int straddling = 0;
+  for (size_t frame = 0; frame < 11; ++frame) {
+    double lid = 0;
+    for (size_t row = 0; row < 4; ++row) {
+      const double* e = &segments[16 * frame + 4 * row];
+      for (const double x : {e[0], e[2]}) {
+        CHECK(x >= -1e-15);  // round-off of the shift
+        CHECK(x <= 0.02 + 1e-15);
+      }
+      if (row >= 2) lid += std::hypot(e[2] - e[0], e[3] - e[1]);
+      if (row == 3 && e[2] != e[0]) ++straddling;
+    }
+    CHECK(lid == Approx(0.02).margin(1e-15));
   }
+  CHECK(straddling > 0);  // the test sees the lid cut at least once
   fs::remove_all(dir);
 }

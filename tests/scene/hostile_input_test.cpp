@@ -3,6 +3,7 @@
 // override, as a refusal of judge_dt), and every input the fuzzer ever found is replayed.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -266,6 +267,23 @@ TEST_CASE("an alias inside its own anchor, and a chain of anchors deeper than a 
   chain << "a0: &a0 [1]\n";
   for (int k = 1; k < 200; ++k) chain << 'a' << k << ": &a" << k << " [*a" << k - 1 << "]\n";
   CHECK(has(error_of(chain.str() + scene), "nested more than 64 levels deep (aliases (*name) expanded)"));
+}
+
+TEST_CASE("a refusal deep in a scene names its line and a key path of bounded length", "[hostile]") {
+  // Maps nested 70 deep under keys of 100 characters, refused at the 65th: the key path alone
+  // was 6.5 KB (64 keys); it keeps its first 60 and last 100 characters.
+  std::string deep = scene + "extra:\n", indent = " ";
+  for (int k = 0; k < 70; ++k) {
+    deep += indent + std::string(99, 'k') + std::to_string(k % 10) + ":\n";
+    indent += " ";
+  }
+  deep += indent + "x: 1\n";
+  const std::string message = error_of(deep);
+  INFO(message);
+  CHECK(has(message, "nested more than 64"));
+  CHECK(has(message, ": key 'extra.kkk"));
+  CHECK(has(message, " ... "));
+  CHECK(message.size() < 500);
 }
 
 TEST_CASE("lists nested thousands deep and more than 16 materials are refused before anything is built",

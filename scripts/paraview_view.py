@@ -1,0 +1,131 @@
+"""A kiln run in ParaView: discs at their true radius, walls as lines, coloured by speed or
+temperature with the unit in the colour legend, and the time in a corner.
+
+    pvpython scripts/paraview_view.py out/t3_heap                       # the last frame, on screen
+    xvfb-run -a pvpython scripts/paraview_view.py out/t3_heap --screenshot heap.png [--time 0.5]
+    (in ParaView's Python shell: exec(open('scripts/paraview_view.py').read()); show('out/t3_heap'))
+
+It opens DIR/result.xdmf with ParaView's legacy XDMF reader, the one of ParaView's three that
+names the two series (`particles`, `walls`); the Xdmf3 readers read the same values into unnamed
+blocks 0 and 1. Each disc is a sphere glyph of diameter 1 seen from +z, scaled by `radius` with a
+scale factor of 2 at every point ("All Points": the default masks most of them). The
+colour defaults to temperature in thermal runs and to speed (|velocity|) otherwise; units come
+from the `units` attributes of result.h5.
+"""
+import argparse
+import os
+import sys
+
+import h5py
+from paraview import simple as pv
+
+UNITS_SHOWN = {'degC': '\N{DEGREE SIGN}C'}
+
+
+def units_of(h5_path, dataset):
+    with h5py.File(h5_path, 'r') as f:
+        u = f[dataset].attrs.get('units', b'')
+    u = u.decode() if isinstance(u, bytes) else str(u)
+    return UNITS_SHOWN.get(u, u)
+
+
+def discs(series):
+    """The filled circles of a particles series, at their true radius (a pipeline source)."""
+    glyph = pv.Glyph(Input=series, GlyphType='Sphere')  # seen from +z: a round disc
+    glyph.GlyphType.Radius = 0.5
+    glyph.GlyphType.ThetaResolution = 32
+    glyph.GlyphType.PhiResolution = 9  # odd: a ring of vertices on the equator, the disc's edge
+    glyph.OrientationArray = ['POINTS', 'No orientation array']
+    glyph.ScaleArray = ['POINTS', 'radius']
+    glyph.ScaleFactor = 2.0  # the glyph's diameter is 1
+    glyph.GlyphMode = 'All Points'
+    return glyph
+
+
+def series(reader, name, index):
+    """One of the two series: by name in the legacy reader, by place in the Xdmf3 readers."""
+    try:
+        return pv.ExtractBlock(Input=reader, Selectors=['/Root/' + name])
+    except Exception:  # pragma: no cover - older ParaView
+        return pv.ExtractBlock(Input=reader, BlockIndices=[index + 1])
+
+
+def show(run_dir, field=None, time=None, screenshot=None, size=(1200, 900)):
+    run_dir = os.path.abspath(run_dir)
+    h5_path = os.path.join(run_dir, 'result.h5')
+    with h5py.File(h5_path, 'r') as f:
+        thermal = 'temperature' in f
+        has_walls = 'wall_of_segment' in f
+        times = f['time'][:]
+        scene = f.attrs.get('scene', b'')
+    scene = scene.decode() if isinstance(scene, bytes) else str(scene)
+    field = field or ('temperature' if thermal else 'speed')
+    if field == 'temperature' and not thermal:
+        sys.exit('paraview_view: %s has no temperature (not a thermal run); use --field speed' % run_dir)
+    reader = pv.XDMFReader(registrationName='kiln', FileNames=[os.path.join(run_dir, 'result.xdmf')])
+    view = pv.GetActiveViewOrCreate('RenderView')
+    view.ViewSize = list(size)
+    view.OrientationAxesVisibility = 0
+    view.Background = [1, 1, 1]
+    if hasattr(view, 'UseColorPaletteForBackground'):
+        view.UseColorPaletteForBackground = 0
+    particles = series(reader, 'particles', 0) if has_walls else reader
+    disc = discs(particles)
+    shown = pv.Show(disc, view)
+    shown.Ambient, shown.Diffuse = 1.0, 0.0  # flat colours: a disc, not a lit ball
+    if field == 'temperature':
+        pv.ColorBy(shown, ('POINTS', 'temperature'))
+        lut = pv.GetColorTransferFunction('temperature')
+        title = 'temperature (%s)' % units_of(h5_path, 'temperature')
+    else:
+        pv.ColorBy(shown, ('POINTS', 'velocity', 'Magnitude'))
+        lut = pv.GetColorTransferFunction('velocity')
+        title = 'speed (%s)' % units_of(h5_path, 'velocity')
+    lut.ApplyPreset('Viridis (matplotlib)', True)
+    shown.SetScalarBarVisibility(view, True)
+    bar = pv.GetScalarBar(lut, view)
+    bar.Title = title
+    bar.ComponentTitle = ''
+    bar.TitleColor = bar.LabelColor = [0, 0, 0]
+    if has_walls:
+        walls = pv.Show(series(reader, 'walls', 1), view)
+        pv.ColorBy(walls, None)
+        walls.AmbientColor = walls.DiffuseColor = [0, 0, 0]
+        walls.LineWidth = 3.0
+    clock = pv.AnnotateTimeFilter(Input=reader, Format='t = {time:.4g} s')
+    label = pv.Show(clock, view)
+    label.WindowLocation = 'Upper Left Corner'
+    label.Color = [0, 0, 0]
+    name = pv.Text(Text=scene)
+    caption = pv.Show(name, view)
+    caption.WindowLocation = 'Upper Center'
+    caption.Color = [0, 0, 0]
+    t = times[-1] if time is None else min(times, key=lambda x: abs(x - time))
+    scene_ = pv.GetAnimationScene()
+    scene_.UpdateAnimationUsingDataTimeSteps()
+    scene_.AnimationTime = t
+    view.ViewTime = t
+    # Each frame's own range: the colours of a screenshot span what it shows.
+    shown.RescaleTransferFunctionToDataRange(False, True)
+    view.InteractionMode = '2D'
+    view.ResetCamera()
+    pv.Render(view)
+    if screenshot:
+        pv.SaveScreenshot(screenshot, view, ImageResolution=list(size))
+    return view
+
+
+def main():
+    p = argparse.ArgumentParser(description=__doc__.split('\n')[0])
+    p.add_argument('run_dir', help='a kiln run directory (result.xdmf, result.h5)')
+    p.add_argument('--field', choices=['speed', 'temperature'])
+    p.add_argument('--time', type=float, help='the frame nearest this time (s); default: the last')
+    p.add_argument('--screenshot', help='write a PNG here and exit')
+    a = p.parse_args()
+    show(a.run_dir, a.field, a.time, a.screenshot)
+    if not a.screenshot:
+        pv.Interact()
+
+
+if __name__ == '__main__':
+    main()
