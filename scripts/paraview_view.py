@@ -3,7 +3,8 @@ temperature with the unit in the colour legend, and the time in a corner.
 
     pvpython scripts/paraview_view.py out/t3_heap                       # the last frame, on screen
     xvfb-run -a pvpython scripts/paraview_view.py out/t3_heap --screenshot heap.png [--time 0.5]
-    (in ParaView's Python shell: exec(open('scripts/paraview_view.py').read()); show('out/t3_heap'))
+    in ParaView's Python shell:
+        import sys; sys.path.insert(0, 'scripts'); import paraview_view; paraview_view.show('out/t3_heap')
 
 It opens DIR/result.xdmf with ParaView's legacy XDMF reader, the one of ParaView's three that
 names the two series (`particles`, `walls`); the Xdmf3 readers read the same values into unnamed
@@ -50,9 +51,22 @@ def series(reader, name, index):
         return pv.ExtractBlock(Input=reader, BlockIndices=[index + 1])
 
 
+class ViewError(Exception):
+    """A run directory, time or output the view cannot use: the message says which and why."""
+
+
 def show(run_dir, field=None, time=None, screenshot=None, size=(1200, 900)):
     run_dir = os.path.abspath(run_dir)
     h5_path = os.path.join(run_dir, 'result.h5')
+    for name in ('result.h5', 'result.xdmf'):
+        if not os.path.isfile(os.path.join(run_dir, name)):
+            killed = os.path.exists(os.path.join(run_dir, 'result.h5.tmp')) or \
+                os.path.exists(os.path.join(run_dir, 'result.h5.killed'))
+            raise ViewError('%s has no %s: %s' % (run_dir, name, 'a run that did not finish (resume it with kiln run '
+                                                  '--restart DIR/checkpoint.h5)' if killed else
+                                                  'not a kiln run directory (kiln run writes out/<scene name>/)'))
+    if screenshot and not os.path.isdir(os.path.dirname(os.path.abspath(screenshot))):
+        raise ViewError('--screenshot %s: its directory does not exist' % screenshot)
     with h5py.File(h5_path, 'r') as f:
         thermal = 'temperature' in f
         has_walls = 'wall_of_segment' in f
@@ -61,7 +75,9 @@ def show(run_dir, field=None, time=None, screenshot=None, size=(1200, 900)):
     scene = scene.decode() if isinstance(scene, bytes) else str(scene)
     field = field or ('temperature' if thermal else 'speed')
     if field == 'temperature' and not thermal:
-        sys.exit('paraview_view: %s has no temperature (not a thermal run); use --field speed' % run_dir)
+        raise ViewError('%s has no temperature (not a thermal run); use --field speed' % run_dir)
+    if time is not None and not times[0] <= time <= times[-1]:
+        raise ViewError("--time %g: the run's frames span [%g, %g] s" % (time, times[0], times[-1]))
     reader = pv.XDMFReader(registrationName='kiln', FileNames=[os.path.join(run_dir, 'result.xdmf')])
     view = pv.GetActiveViewOrCreate('RenderView')
     view.ViewSize = list(size)
@@ -105,8 +121,13 @@ def show(run_dir, field=None, time=None, screenshot=None, size=(1200, 900)):
     scene_.UpdateAnimationUsingDataTimeSteps()
     scene_.AnimationTime = t
     view.ViewTime = t
-    # Each frame's own range: the colours of a screenshot span what it shows.
+    # Each frame's own range: the colours of a screenshot span what it shows; a constant field (a
+    # run at rest, one temperature) gets a range around its value, not ParaView's [v, v + 1e-38].
     shown.RescaleTransferFunctionToDataRange(False, True)
+    low, high = lut.RGBPoints[0], lut.RGBPoints[-4]
+    if high - low <= 1e-9 * max(abs(low), abs(high)) + 1e-30:
+        half = max(abs(low) * 0.01, 1e-6)
+        lut.RescaleTransferFunction(low - half, low + half)
     view.InteractionMode = '2D'
     view.ResetCamera()
     pv.Render(view)
@@ -122,7 +143,10 @@ def main():
     p.add_argument('--time', type=float, help='the frame nearest this time (s); default: the last')
     p.add_argument('--screenshot', help='write a PNG here and exit')
     a = p.parse_args()
-    show(a.run_dir, a.field, a.time, a.screenshot)
+    try:
+        show(a.run_dir, a.field, a.time, a.screenshot)
+    except ViewError as e:
+        sys.exit('paraview_view: %s' % e)
     if not a.screenshot:
         pv.Interact()
 

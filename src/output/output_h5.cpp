@@ -209,18 +209,25 @@ int H5Frames::frames_of_run(const std::string& path, const std::string& run_id) 
   return frames;
 }
 
-std::vector<double> H5Frames::times() const {
-  std::vector<double> t(frames_);
-  if (frames_ == 0) return t;
-  const hsize_t start[] = {0}, count[] = {static_cast<hsize_t>(frames_)};
-  const hid_t file_space = h5_id(H5Dget_space(ds_[static_cast<int>(FrameField::time)]), "read the frame times of", path_);
-  const hid_t mem_space = H5Screate_simple(1, count, nullptr);
+std::vector<double> H5Frames::read(FrameField field) const {
+  const FrameFieldInfo& f = frame_field(field);
+  const hid_t ds = ds_[static_cast<int>(field)];
+  if (ds < 0) throw std::logic_error(std::string("read '") + f.name + "', which this result does not hold");
+  const Shape s = shape(f);
+  const hsize_t start[3] = {0, 0, 0}, count[3] = {static_cast<hsize_t>(frames_), s.dims[0], s.dims[1]};
+  hsize_t values = count[0];
+  for (int k = 0; k < s.rank; ++k) values *= count[k + 1];
+  std::vector<double> v(values);
+  if (values == 0) return v;
+  const std::string what = std::string("read '") + f.name + "' of";
+  const hid_t file_space = h5_id(H5Dget_space(ds), what.c_str(), path_);
+  const hid_t mem_space = H5Screate_simple(s.rank + 1, count, nullptr);
   herr_t status = mem_space < 0 ? -1 : H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr);
-  if (status >= 0) status = H5Dread(ds_[static_cast<int>(FrameField::time)], H5T_NATIVE_DOUBLE, mem_space, file_space, H5P_DEFAULT, t.data());
+  if (status >= 0) status = H5Dread(ds, H5T_NATIVE_DOUBLE, mem_space, file_space, H5P_DEFAULT, v.data());
   if (mem_space >= 0) H5Sclose(mem_space);
   H5Sclose(file_space);
-  h5_check(status, "read the frame times of", path_);
-  return t;
+  h5_check(status, what.c_str(), path_);
+  return v;
 }
 
 // A whole constant dataset with its units.

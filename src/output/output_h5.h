@@ -79,7 +79,9 @@ class H5Frames {
   // The frames of run `run_id` that the file at `path` holds, read only; -1 when it cannot be read
   // or is another run's.
   static int frames_of_run(const std::string& path, const std::string& run_id);
-  std::vector<double> times() const;  // the time of every frame
+  // Every frame's values of a field the file holds, as written (row-major, F x ...).
+  std::vector<double> read(FrameField f) const;
+  std::vector<double> times() const { return read(FrameField::time); }
   void close();    // checked: the last writes may fail here
   void abandon();  // closes without checking (a run that failed: the file is removed)
 

@@ -24,6 +24,7 @@ const std::vector<std::string>& RunOutputs::names() {
   static const std::vector<std::string> n = {"result.h5",    "result.h5.tmp",   "result.xdmf",    "result.xdmf.tmp",
                                              "summary.json", "summary.json.tmp", "picture.png",    "picture.png.tmp",
                                              "checkpoint.h5", "checkpoint.h5.tmp", "result.h5.killed",
+                                             "wall_loads.csv", "wall_loads.csv.tmp",
                                              // drawn from a run's results (movie.h, scripts/plot_case.py)
                                              "movie",         "movie.tmp",         "movie.mp4",        "movie.mp4.tmp",
                                              "plots.png",     "plots.png.tmp"};
@@ -165,7 +166,7 @@ RunOutputs::~RunOutputs() {
 void RunOutputs::clean_up() {
   h5_->abandon();
   for (const char* name : {"result.h5.tmp", "result.xdmf.tmp", "summary.json.tmp", "picture.png.tmp",
-                           "checkpoint.h5.tmp"})
+                           "checkpoint.h5.tmp", "wall_loads.csv.tmp"})
     std::remove(path(name).c_str());
   if (!checkpointed_) return;
   if (!resumed_from_) {
@@ -315,6 +316,46 @@ std::string how_it_ended(const nlohmann::json& summary) {
 }
 
 
+namespace {
+
+// A CSV field: quoted, its quotes doubled (a wall's name may hold commas or quotes).
+std::string csv_field(const std::string& text) {
+  std::string q = "\"";
+  for (char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+}  // namespace
+
+std::string RunOutputs::wall_loads_csv() const {
+  const std::vector<double> t = h5_->times(), force = h5_->read(FrameField::wall_force),
+                            torque = h5_->read(FrameField::wall_torque), power = h5_->read(FrameField::wall_power);
+  std::ostringstream csv;
+  csv << csv_field("time (s)");
+  for (const Wall& w : sys_.scene().walls)
+    for (const char* load : {" force_x (N)", " force_y (N)", " torque (N m)", " power (W)"})
+      csv << ',' << csv_field(w.name + load);
+  csv << '\n';
+  const size_t walls = sys_.scene().walls.size();
+  char number[32];
+  auto put = [&](double v) {
+    std::snprintf(number, sizeof number, ",%.17g", v);
+    csv << number;
+  };
+  for (size_t k = 0; k < t.size(); ++k) {
+    std::snprintf(number, sizeof number, "%.17g", t[k]);
+    csv << number;
+    for (size_t w = 0; w < walls; ++w) {
+      put(force[3 * (k * walls + w)]);
+      put(force[3 * (k * walls + w) + 1]);
+      put(torque[k * walls + w]);
+      put(power[k * walls + w]);
+    }
+    csv << '\n';
+  }
+  return csv.str();
+}
+
 PictureInput RunOutputs::picture(double t, const double* y, const std::string& title) const {
   PictureInput pic;
   for (int i = 0; i < sys_.particles(); ++i) {
@@ -345,16 +386,18 @@ void RunOutputs::finish(double t, const double* y, const nlohmann::json& summary
                         const std::vector<ResultTable>& tables) {
   for (const ResultTable& table : tables) h5_->write_table(table);
   h5_->write_frame_views();
+  const std::string loads = layout_.walls > 0 ? wall_loads_csv() : "";
   h5_->close();
   PictureInput pic = picture(t, y, title);
   pic.subtitle = how_it_ended(summary);
   // Everything is written before anything is published: a failure leaves no final name behind.
   write_picture(path("picture.png.tmp"), pic);
   write_file(path("result.xdmf.tmp"), xdmf_document("result.h5", layout_, times_));
+  if (layout_.walls > 0) write_file(path("wall_loads.csv.tmp"), loads);
   // A byte that is not UTF-8 (which the scene reader refuses) must not lose the run here.
   write_file(path("summary.json.tmp"), summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
-  for (const char* name : {"result.h5", "result.xdmf", "picture.png", "summary.json"})
-    publish(path(std::string(name) + ".tmp"), path(name));
+  for (const char* name : {"result.h5", "result.xdmf", "picture.png", "summary.json", "wall_loads.csv"})
+    if (layout_.walls > 0 || std::string(name) != "wall_loads.csv") publish(path(std::string(name) + ".tmp"), path(name));
   std::remove(path("result.h5.killed").c_str());  // a resumed killed run's frames, now in result.h5
   done_ = true;
 }

@@ -9,7 +9,8 @@ pvpython that opens result.xdmf and compares with result.h5 (h5py) at the first,
 last frame: the frame times; the particles' point count, points and every point array (radius,
 velocity, angle, angular_velocity, temperature, id); the walls' points (the rows of wall_segments),
 their polylines and wall index, and the frame's wall_force, wall_torque and wall_power as field
-data; that the two series keep their block (and, in the legacy reader, their name) at every
+data; wall_loads.csv read by ParaView's CSV reader (every frame, every wall's columns, named by
+wall and unit); that the two series keep their block (and, in the legacy reader, their name) at every
 frame. Equality is exact (numpy.array_equal on float64): the readers copy doubles.
 Any line a reader prints on stderr fails the test (ParaView's "ERR|", Xdmf3's "Skipping
 unrecognized array type", a crash's stack). Last, scripts/paraview_view.py draws N3 into
@@ -66,8 +67,8 @@ def check(run_dir, reader_name):
         if walls:
             # Xdmf3ReaderS reads a Domain's grids as the pieces of one partitioned block
             series = out.GetBlock(0) if reader_name == 'Xdmf3ReaderS' else out
-            assert series.GetNumberOfBlocks() if series.IsA('vtkMultiBlockDataSet') else \
-                series.GetNumberOfPieces() == 2, 'two series expected, got %s' % series
+            count = series.GetNumberOfBlocks() if series.IsA('vtkMultiBlockDataSet') else series.GetNumberOfPieces()
+            assert count == 2, 'two series expected, got %d' % count
             p, w = (series.GetPiece(0), series.GetPiece(1)) if series.IsA('vtkMultiPieceDataSet') else \
                 (series.GetBlock(0), series.GetBlock(1))
             if reader_name == 'XDMFReader':  # the legacy reader names them, the same at every frame
@@ -97,6 +98,16 @@ def check(run_dir, reader_name):
         assert np.array_equal(array(w, 'wall', 'cell'), h5['wall_of_segment'][:]), 'wall of segment'
         for name in ('wall_force', 'wall_torque', 'wall_power'):  # Xdmf3: one tuple of W components
             assert np.array_equal(array(w, name, 'field').ravel(), h5[name][k].ravel()), '%s, frame %d' % (name, k)
+    if walls and reader_name == 'XDMFReader':  # wall_loads.csv, once per case: ParaView's CSV reader
+        table = sm.Fetch(pv.CSVReader(FileName=[os.path.join(run_dir, 'result.h5').replace('result.h5', 'wall_loads.csv')]))
+        column = lambda name: vtk_to_numpy(table.GetColumnByName(name))
+        assert table.GetNumberOfRows() == len(times), 'wall_loads.csv: %d rows' % table.GetNumberOfRows()
+        assert np.array_equal(column('time (s)'), times), 'wall_loads.csv time'
+        for w, wall in enumerate(h5.attrs['wall_names']):
+            wall = wall.decode() if isinstance(wall, bytes) else wall
+            for col, want in [(' force_x (N)', h5['wall_force'][:, w, 0]), (' force_y (N)', h5['wall_force'][:, w, 1]),
+                              (' torque (N m)', h5['wall_torque'][:, w]), (' power (W)', h5['wall_power'][:, w])]:
+                assert np.array_equal(column(wall + col), want), 'wall_loads.csv column %r' % (wall + col)
     return len(times)
 
 

@@ -69,6 +69,13 @@ std::string text_attribute(const fs::path& file, const std::string& object, cons
 }
 
 // Every dataset of a file, found by visiting its links (not from a list of expected names).
+std::vector<std::string> split(const std::string& text, char by) {
+  std::vector<std::string> parts;
+  std::stringstream in(text);
+  for (std::string part; std::getline(in, part, by);) parts.push_back(part);
+  return parts;
+}
+
 std::vector<std::string> datasets_of(const fs::path& file) {
   std::vector<std::string> names;
   const hid_t f = H5Fopen(file.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
@@ -356,6 +363,29 @@ TEST_CASE("wall_segments follow a translating wall frame by frame, with the wall
   CHECK(text_attribute(h5, "wall_force", "units") == "N");
   CHECK(text_attribute(h5, "wall_torque", "units") == "N m");
   CHECK(text_attribute(h5, "wall_power", "units") == "W");
+  // wall_loads.csv holds the same loads, a row per frame, its columns named by wall and unit.
+  std::ifstream csv(dir / "wall_loads.csv");
+  std::string header;
+  REQUIRE(std::getline(csv, header));
+  CHECK(header.rfind("\"time (s)\",\"floor force_x (N)\",\"floor force_y (N)\",\"floor torque (N m)\",\"floor power (W)\","
+                     "\"ceiling force_x (N)\"", 0) == 0);
+  const std::vector<double> force = testing::read_dataset(h5, "wall_force"),
+                            torque = testing::read_dataset(h5, "wall_torque"),
+                            power = testing::read_dataset(h5, "wall_power");
+  hsize_t rows = 0;
+  for (std::string line; std::getline(csv, line); ++rows) {
+    INFO(line);
+    const std::vector<std::string> cell = split(line, ',');
+    REQUIRE(cell.size() == 1 + 4 * walls);
+    CHECK(std::stod(cell[0]) == time[rows]);
+    for (hsize_t w = 0; w < walls; ++w) {
+      CHECK(std::stod(cell[1 + 4 * w]) == force[3 * (rows * walls + w)]);
+      CHECK(std::stod(cell[2 + 4 * w]) == force[3 * (rows * walls + w) + 1]);
+      CHECK(std::stod(cell[3 + 4 * w]) == torque[rows * walls + w]);
+      CHECK(std::stod(cell[4 + 4 * w]) == power[rows * walls + w]);
+    }
+  }
+  CHECK(rows == frames);
   fs::remove_all(dir);
 }
 
@@ -495,13 +525,6 @@ for series in root.find('Domain').findall('Grid'):
                 assert d.get('ItemType') is None and d.get('Format') == 'HDF'
                 print('hdf|%d|%s|%s' % (k, d.text.strip(), d.get('Dimensions')))
 )";
-
-std::vector<std::string> split(const std::string& text, char by) {
-  std::vector<std::string> parts;
-  std::stringstream in(text);
-  for (std::string part; std::getline(in, part, by);) parts.push_back(part);
-  return parts;
-}
 
 std::vector<hsize_t> numbers(const std::string& text) {
   std::vector<hsize_t> v;
