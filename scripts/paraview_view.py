@@ -55,8 +55,19 @@ class ViewError(Exception):
     """A run directory, time or output the view cannot use: the message says which and why."""
 
 
+_shown = []  # the proxies the last show() made: a second call replaces them
+
+
 def show(run_dir, field=None, time=None, screenshot=None, size=(1200, 900)):
+    for proxy in reversed(_shown):
+        pv.Delete(proxy)
+    _shown.clear()
+    if pv.GetActiveView() is not None:  # the colour bars of what was deleted
+        for array in ('velocity', 'temperature'):
+            pv.HideScalarBarIfNotNeeded(pv.GetColorTransferFunction(array), pv.GetActiveView())
     run_dir = os.path.abspath(run_dir)
+    if os.path.isfile(run_dir):
+        raise ViewError("%s is a file: give the run's directory (%s)" % (run_dir, os.path.dirname(run_dir)))
     h5_path = os.path.join(run_dir, 'result.h5')
     for name in ('result.h5', 'result.xdmf'):
         if not os.path.isfile(os.path.join(run_dir, name)):
@@ -65,12 +76,17 @@ def show(run_dir, field=None, time=None, screenshot=None, size=(1200, 900)):
             raise ViewError('%s has no %s: %s' % (run_dir, name, 'a run that did not finish (resume it with kiln run '
                                                   '--restart DIR/checkpoint.h5)' if killed else
                                                   'not a kiln run directory (kiln run writes out/<scene name>/)'))
+    if screenshot and not screenshot.lower().endswith('.png'):
+        raise ViewError('--screenshot %s: give a file name ending in .png' % screenshot)
     if screenshot and not os.path.isdir(os.path.dirname(os.path.abspath(screenshot))):
         raise ViewError('--screenshot %s: its directory does not exist' % screenshot)
     with h5py.File(h5_path, 'r') as f:
         thermal = 'temperature' in f
         has_walls = 'wall_of_segment' in f
         times = f['time'][:]
+        k = len(times) - 1 if time is None else min(range(len(times)), key=lambda i: abs(times[i] - time))
+        values = f['temperature'][k] if thermal and field != 'speed' else \
+            (f['velocity'][k][:, 0] ** 2 + f['velocity'][k][:, 1] ** 2) ** 0.5
         scene = f.attrs.get('scene', b'')
     scene = scene.decode() if isinstance(scene, bytes) else str(scene)
     field = field or ('temperature' if thermal else 'speed')
@@ -104,7 +120,9 @@ def show(run_dir, field=None, time=None, screenshot=None, size=(1200, 900)):
     bar.ComponentTitle = ''
     bar.TitleColor = bar.LabelColor = [0, 0, 0]
     if has_walls:
-        walls = pv.Show(series(reader, 'walls', 1), view)
+        walls_block = series(reader, 'walls', 1)
+        _shown.append(walls_block)
+        walls = pv.Show(walls_block, view)
         pv.ColorBy(walls, None)
         walls.AmbientColor = walls.DiffuseColor = [0, 0, 0]
         walls.LineWidth = 3.0
@@ -116,23 +134,28 @@ def show(run_dir, field=None, time=None, screenshot=None, size=(1200, 900)):
     caption = pv.Show(name, view)
     caption.WindowLocation = 'Upper Center'
     caption.Color = [0, 0, 0]
-    t = times[-1] if time is None else min(times, key=lambda x: abs(x - time))
+    t = times[k]
     scene_ = pv.GetAnimationScene()
     scene_.UpdateAnimationUsingDataTimeSteps()
     scene_.AnimationTime = t
     view.ViewTime = t
-    # Each frame's own range: the colours of a screenshot span what it shows; a constant field (a
-    # run at rest, one temperature) gets a range around its value, not ParaView's [v, v + 1e-38].
-    shown.RescaleTransferFunctionToDataRange(False, True)
-    low, high = lut.RGBPoints[0], lut.RGBPoints[-4]
-    if high - low <= 1e-9 * max(abs(low), abs(high)) + 1e-30:
+    # The frame's own range: the colours of a screenshot span what it shows; a constant field (a
+    # run at rest, one temperature) gets a range of 1 % around its value (ParaView's own widening,
+    # 1.6e-4, draws a bar whose two ends read alike).
+    low, high = float(values.min()), float(values.max())
+    if high - low <= 1e-9 * max(abs(low), abs(high)):
         half = max(abs(low) * 0.01, 1e-6)
-        lut.RescaleTransferFunction(low - half, low + half)
+        low, high = low - half, low + half
+    lut.RescaleTransferFunction(low, high)
+    lut.AutomaticRescaleRangeMode = 'Never'
     view.InteractionMode = '2D'
     view.ResetCamera()
     pv.Render(view)
+    _shown[:0] = [reader] + ([particles] if has_walls else []) + [disc]  # made first: deleted last
+    _shown.extend([clock, name])
     if screenshot:
-        pv.SaveScreenshot(screenshot, view, ImageResolution=list(size))
+        if not pv.SaveScreenshot(screenshot, view, ImageResolution=list(size)) or not os.path.isfile(screenshot):
+            raise ViewError('--screenshot %s: ParaView could not write it' % screenshot)
     return view
 
 

@@ -69,7 +69,7 @@ std::string read_text(const std::string& path) {
 // The summary line of a run that ended, or where a stopped one stopped and how to go on.
 void report_run(const Scene& scene, const nlohmann::json& s, const std::string& out, bool quiet) {
   if (s["stopped_early"] == "signal") {
-    std::fprintf(stderr, "%s: stopped by %s at t = %.6g s after %ld steps; frames, summary and picture in %s/; "
+    std::fprintf(stderr, "%s: stopped by %s at t = %.6g s after %ld steps; frames, wall loads, summary and picture in %s/; "
                  "go on with: kiln run --restart %s\n", scene.name.c_str(), s["stopped_by"].get<std::string>().c_str(),
                  s["t_end"].get<double>(), s["steps"].get<long>(), out.c_str(), s["checkpoint"].get<std::string>().c_str());
     return;

@@ -318,11 +318,20 @@ std::string how_it_ended(const nlohmann::json& summary) {
 
 namespace {
 
-// A CSV field: quoted, its quotes doubled (a wall's name may hold commas or quotes).
-std::string csv_field(const std::string& text) {
-  std::string q = "\"";
-  for (char c : text) q += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return q + "\"";
+// A wall's name as a CSV column's: ParaView's CSV reader (5.11) does not read a doubled quote
+// back, and a line break ends a row, so quotes become ' and control characters spaces; a name
+// that then repeats another's gets its wall's index (ParaView keeps one column of a name).
+std::vector<std::string> csv_wall_names(const std::vector<Wall>& walls) {
+  std::vector<std::string> names;
+  for (size_t w = 0; w < walls.size(); ++w) {
+    std::string name = walls[w].name;
+    for (char& c : name)
+      if (c == '"') c = '\'';
+      else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+    if (std::find(names.begin(), names.end(), name) != names.end()) name += " #" + std::to_string(w);
+    names.push_back(name);
+  }
+  return names;
 }
 
 }  // namespace
@@ -331,10 +340,10 @@ std::string RunOutputs::wall_loads_csv() const {
   const std::vector<double> t = h5_->times(), force = h5_->read(FrameField::wall_force),
                             torque = h5_->read(FrameField::wall_torque), power = h5_->read(FrameField::wall_power);
   std::ostringstream csv;
-  csv << csv_field("time (s)");
-  for (const Wall& w : sys_.scene().walls)
+  csv << "\"time (s)\"";
+  for (const std::string& name : csv_wall_names(sys_.scene().walls))
     for (const char* load : {" force_x (N)", " force_y (N)", " torque (N m)", " power (W)"})
-      csv << ',' << csv_field(w.name + load);
+      csv << ",\"" << name << load << '"';
   csv << '\n';
   const size_t walls = sys_.scene().walls.size();
   char number[32];

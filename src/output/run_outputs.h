@@ -73,7 +73,8 @@ class RunOutputs {
   // The final state's picture: particles and walls where they are at t.
   PictureInput picture(double t, const double* y, const std::string& title) const;
   // wall_loads.csv: per frame (a row) the time and each wall's force_x, force_y, torque and
-  // power, the columns named by wall and unit; ParaView's CSV reader plots it over time.
+  // power, the columns named by wall (quotes made ', control characters spaces, a repeated name
+  // given its index) and unit; ParaView's CSV reader plots it over time.
   std::string wall_loads_csv() const;
   void segments_rows();  // wall_a_, wall_b_ into segments_ (x_a, y_a, x_b, y_b per written piece)
   void lock_directory();
