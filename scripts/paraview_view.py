@@ -163,7 +163,7 @@ def main():
     p = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     p.add_argument('run_dir', help='a kiln run directory (result.xdmf, result.h5)')
     p.add_argument('--field', choices=['speed', 'temperature'])
-    p.add_argument('--time', type=float, help='the frame nearest this time (s); default: the last')
+    p.add_argument('--time', type=float, help='the frame nearest this time (s), the earlier of two as near; default: the last')
     p.add_argument('--screenshot', help='write a PNG here and exit')
     a = p.parse_args()
     try:
