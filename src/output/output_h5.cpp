@@ -46,19 +46,10 @@ H5Frames::~H5Frames() { abandon(); }
 bool H5Frames::present(const FrameFieldInfo& f) const { return in_result(f, layout_); }
 
 H5Frames::Shape H5Frames::shape(const FrameFieldInfo& f) const {
-  const int items = f.of == FrameOf::particles ? layout_.particles
-                    : f.of == FrameOf::segments ? layout_.segments
-                    : f.of == FrameOf::walls    ? layout_.walls
-                                                : 1;
-  const hsize_t n = static_cast<hsize_t>(items);
-  if (f.of == FrameOf::run) return {f.name, f.units, 0, {0, 0}};
-  switch (f.layout) {
-    case FrameLayout::scalar: return {f.name, f.units, 1, {n, 0}};
-    case FrameLayout::x_block_y_block:
-    case FrameLayout::xy_pairs: return {f.name, f.units, 2, {n, 3}};
-    case FrameLayout::segment_rows: return {f.name, f.units, 2, {n, 4}};
-  }
-  return {};
+  const std::vector<size_t> dims = frame_dims(f, layout_);
+  Shape s{f.name, f.units, static_cast<int>(dims.size()), {0, 0}};
+  for (size_t k = 0; k < dims.size(); ++k) s.dims[k] = dims[k];
+  return s;
 }
 
 // The text attribute `units` of a dataset.

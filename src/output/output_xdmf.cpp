@@ -20,14 +20,15 @@ std::string item(const std::string& h5, const std::string& dataset, const std::s
 
 std::string frame_view(size_t k, const char* name) { return "/frames/" + std::to_string(k) + "/" + name; }
 
-// The dimensions of one frame of a field.
-std::string frame_dims(const FrameFieldInfo& f, const ResultLayout& l) {
-  const size_t items = f.of == FrameOf::particles ? l.particles : f.of == FrameOf::segments ? l.segments : l.walls;
-  return std::to_string(items) + (f.layout == FrameLayout::scalar         ? ""
-                                  : f.layout == FrameLayout::segment_rows ? " 4"
-                                                                          : " 3");
+// The Dimensions attribute of one frame of a field.
+std::string frame_dims_text(const FrameFieldInfo& f, const ResultLayout& l) {
+  std::string text;
+  for (size_t d : frame_dims(f, l)) {
+    if (!text.empty()) text += ' ';
+    text += std::to_string(d);
+  }
+  return text;
 }
-
 
 }  // namespace
 
@@ -61,7 +62,7 @@ std::string xdmf_document(const std::string& h5, const ResultLayout& layout, con
     attribute("radius", "Scalar", "Node", item(h5, "/radius", N));
     for (const FrameFieldInfo& f : frame_fields)
       if (f.of == FrameOf::particles && f.xdmf_attribute && in_result(f, layout))
-        attribute(f.name, f.xdmf_attribute, "Node", item(h5, frame_view(k, f.name), frame_dims(f, layout)));
+        attribute(f.name, f.xdmf_attribute, "Node", item(h5, frame_view(k, f.name), frame_dims_text(f, layout)));
     attribute("id", "Scalar", "Node", item(h5, "/id", N, true));
     x << "      </Grid>\n";
   }
@@ -82,7 +83,7 @@ std::string xdmf_document(const std::string& h5, const ResultLayout& layout, con
       for (const FrameFieldInfo& f : frame_fields)
         if (f.of == FrameOf::walls && f.xdmf_attribute && in_result(f, layout))
           attribute(f.name, f.xdmf_attribute, "Grid",
-                    item(h5, frame_view(k, f.name), frame_dims(f, layout)));
+                    item(h5, frame_view(k, f.name), frame_dims_text(f, layout)));
       x << "      </Grid>\n";
     }
     x << "    </Grid>\n";

@@ -33,6 +33,22 @@ inline bool in_result(const FrameFieldInfo& f, const ResultLayout& l) {
   return false;
 }
 
+// The dimensions of one frame of a field in result.h5: none for the run's (time), {n} for a
+// scalar of n items, {n, 3} for a vector (x, y, 0), {n, 4} for segment rows.
+inline std::vector<size_t> frame_dims(const FrameFieldInfo& f, const ResultLayout& l) {
+  if (f.of == FrameOf::run) return {};
+  const size_t n = static_cast<size_t>(f.of == FrameOf::particles ? l.particles
+                                       : f.of == FrameOf::segments ? l.segments
+                                                                   : l.walls);
+  switch (f.layout) {
+    case FrameLayout::scalar: return {n};
+    case FrameLayout::x_block_y_block:
+    case FrameLayout::xy_pairs: return {n, 3};
+    case FrameLayout::segment_rows: return {n, 4};
+  }
+  return {};
+}
+
 // result.xdmf for ParaView: two time series (temporal collections, one uniform grid per frame),
 // the particles (vertices at `position`, with radius, velocity as a vector, angle,
 // angular_velocity, temperature, id) and, when there are walls, the walls (2 S points of XY read

@@ -233,9 +233,13 @@ std::vector<int> pieces_of_segments(const DemSystem& sys) {
   return pieces;
 }
 
+void RunOutputs::cut_walls(const std::vector<Vec2>& a, const std::vector<Vec2>& b, std::vector<Vec2>& ends) const {
+  ends.clear();
+  for (size_t s = 0; s < a.size(); ++s) cut_into_cell(sys_.cell(), a[s], b[s], pieces_[s], ends);
+}
+
 void RunOutputs::segments_rows() {
-  ends_.clear();
-  for (size_t s = 0; s < wall_a_.size(); ++s) cut_into_cell(sys_.cell(), wall_a_[s], wall_b_[s], pieces_[s], ends_);
+  cut_walls(wall_a_, wall_b_, ends_);
   segments_.resize(2 * ends_.size());
   for (size_t e = 0; e < ends_.size(); ++e) {
     segments_[2 * e] = ends_[e].x;
@@ -377,7 +381,7 @@ PictureInput RunOutputs::picture(double t, const double* y, const std::string& t
   pic.value_label = sys_.thermal() ? "temperature (C)" : "speed (m/s)";
   std::vector<Vec2> a, b, ends;
   sys_.wall_geometry(t, y, a, b);  // where the walls are at t, moving ones too
-  for (size_t s = 0; s < a.size(); ++s) cut_into_cell(sys_.cell(), a[s], b[s], pieces_[s], ends);
+  cut_walls(a, b, ends);
   for (size_t e = 0; e < ends.size(); e += 2) {
     pic.wall_a.push_back(ends[e]);
     pic.wall_b.push_back(ends[e + 1]);

@@ -76,6 +76,8 @@ class RunOutputs {
   // power, the columns named by wall (quotes made ', control characters spaces, a repeated name
   // given its index) and unit; ParaView's CSV reader plots it over time.
   std::string wall_loads_csv() const;
+  // The scene's segments a -> b as the rows written (pieces_of_segments): the ends of each piece.
+  void cut_walls(const std::vector<Vec2>& a, const std::vector<Vec2>& b, std::vector<Vec2>& ends) const;
   void segments_rows();  // wall_a_, wall_b_ into segments_ (x_a, y_a, x_b, y_b per written piece)
   void lock_directory();
   void clean_up();  // a run that did not finish
