@@ -5,7 +5,8 @@
 // Both models share one form, an elastic-plastic rolling spring with a dashpot (Ai, Chen, Rotter
 // and Ooi, "Assessment of rolling resistance models in discrete element simulations", Powder
 // Technology 206 (2011) 269-282, model C, the elastic-plastic spring-dashpot): M = -k_r psi - c_r omega_r, capped at
-// M_max; at the cap the spring alone carries M_max and the dashpot is off (as LIGGGHTS' epsd).
+// M_max; at the cap the torque is M_max and the spring is shortened to at most M_max / k_r
+// (contact/capped_spring.h, as for friction: the cap never lengthens it).
 // psi, the rolling spring's angle, is the relative rotation since the contact began, measured
 // from the frame of the last accepted step (contact/contact_frame.h), so it is a function of the
 // state and every stage of a multi-stage method sees its own.
@@ -22,6 +23,8 @@
 //    (c_r = 2 sqrt(I_s k_r)); while the contact rolls the torque is exactly the constant M_max.
 #pragma once
 #include <cmath>
+
+#include "contact/capped_spring.h"
 
 namespace kiln::contact {
 
@@ -58,15 +61,8 @@ struct RollingResult {
 
 // `angle`: the trial spring angle psi of this state (rad); `relative_spin`: omega_r (rad/s).
 inline RollingResult rolling_torque(const RollingLaw& law, double angle, double relative_spin) {
-  RollingResult r;
-  r.spring = angle;
-  r.torque = -law.k * angle - law.c * relative_spin;
-  if (std::abs(r.torque) > law.limit) {
-    r.torque = std::copysign(law.limit, r.torque);
-    r.spring = law.k > 0 ? -r.torque / law.k : 0.0;
-    r.rolling = true;
-  }
-  return r;
+  const CappedSpringResult e = capped_spring(law.k, law.c, law.limit, angle, relative_spin);
+  return {e.force, e.spring, e.slipping};
 }
 
 inline double rolling_elastic_energy(const RollingLaw& law, double angle) { return 0.5 * law.k * angle * angle; }

@@ -10,11 +10,14 @@
 // increment v_t dt from one slip rate per step would be a rectangle rule: first order).
 //
 // When the trial force exceeds mu F_n the contact slides: the force is capped at mu F_n and the
-// spring alone is set to carry it, k_t |xi| = mu F_n (as LIGGGHTS does; LAMMPS gran/hooke/history
-// also folds the dashpot into the spring, which stores an unphysical c_t v_t / k_t elongation
-// while sliding fast). Sticking then resumes without a jump, since the slip speed is zero there.
+// spring shortened to at most mu F_n / k_t (contact/capped_spring.h: the cap never lengthens it,
+// so the spring stores no energy the friction force did not put in). LAMMPS gran/hooke/history
+// instead folds the dashpot into the spring, which stores an unphysical c_t v_t / k_t elongation
+// while sliding fast.
 #pragma once
 #include <cmath>
+
+#include "contact/capped_spring.h"
 
 namespace kiln::contact {
 
@@ -35,16 +38,8 @@ struct TangentialResult {
 // tensile contact (F_n <= 0) holds no friction.
 [[gnu::always_inline]] inline TangentialResult tangential_force(const TangentialLaw& law, double elongation, double slip_speed,
                                          double normal) {
-  TangentialResult r;
-  r.spring = elongation;
-  r.force = -law.k * elongation - law.c * slip_speed;
-  const double limit = law.mu * (normal > 0 ? normal : 0.0);
-  if (std::abs(r.force) > limit) {
-    r.force = std::copysign(limit, r.force);
-    r.spring = law.k > 0 ? -r.force / law.k : 0.0;  // a Hertz spring vanishes with the overlap
-    r.sliding = true;
-  }
-  return r;
+  const CappedSpringResult e = capped_spring(law.k, law.c, law.mu * (normal > 0 ? normal : 0.0), elongation, slip_speed);
+  return {e.force, e.spring, e.slipping};
 }
 
 inline double tangential_elastic_energy(const TangentialLaw& law, double spring) {

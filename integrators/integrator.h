@@ -122,6 +122,16 @@ class OdeSystem {
   // displacement: the work then matches what the forces did to its trajectory, to second order.
   // Returns count and points g at count x nq numbers (component after component).
   virtual int work_components(const double** /*g*/) const { return 0; }
+  // Contact works: further components of z (heat made by dissipation) whose rates are sums over
+  // contacts of a work each, linear in the velocities plus a rest. A scheme that books the work
+  // components on its displacement calls book_contact_works_by_step() at its start: derivative()
+  // then leaves those rates out, and after each step book_contact_works() adds to z each
+  // contact's work over the step by the rule of the work components, 1/2 scale (h_n + h_n+1) . dir
+  // + rest_weight_old rest_n + rest_weight_new rest_n+1, so that they and the work components
+  // agree to round-off.
+  virtual void book_contact_works_by_step() {}
+  virtual void book_contact_works(const double* /*dir*/, double /*scale*/, double /*rest_weight_old*/,
+                                  double /*rest_weight_new*/, double* /*z*/) {}
 
   // Absolute tolerances per component from the step control.
   virtual std::vector<double> absolute_tolerances(const StepControl& c) const {

@@ -65,7 +65,7 @@ void VelocityVerlet::step() {
       system_->implicit_jacobian_times(t_next, y_, dz_.data(), jdz_.data());
     for (int k = 0; k < nz; ++k) rate_[2 * nq + k] += jdz_[2 * nq + k];
   }
-  book_work(z_old_.data(), 0.5 * h, 0.5 * h);
+  book_work(z_old_.data(), v_half_.data(), h, 0.5 * h, 0.5 * h);
   advance_time();
   ++stats_.steps;
 }

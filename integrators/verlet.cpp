@@ -42,7 +42,7 @@ void BasicVerlet::step() {
   evaluate(t_next, eval_.data(), 0);
   if (works_ > 0) {
     work_after(eval_.data() + nq, eval_.data() + nq, h);
-    book_work(z_before_.data(), h, 0.0);
+    book_work(z_before_.data(), eval_.data() + nq, h, h, 0.0);
   }
   const double* a = accel();
   for (int k = 0; k < nq; ++k) {

@@ -58,6 +58,7 @@ class VerletFamily : public Integrator {
     rate_.assign(layout_.size(), 0);
     const double* g = nullptr;
     works_ = system.work_components(&g);
+    system.book_contact_works_by_step();
     work_rest_.assign(works_, 0.0);
     work_rest_old_ = work_rest_;
     along_old_ = along_new_ = work_rest_;
@@ -122,11 +123,14 @@ class VerletFamily : public Integrator {
   }
   // Sets the work components of z at the step's end: `before` their values at its start,
   // rest_weight_old/new the z rule's weights (times dt) for the rest: the trapezoid
-  // 1/2 (g_n + g_n+1) . (q_n+1 - q_n) plus the rest.
-  void book_work(const double* before, double rest_weight_old, double rest_weight_new) {
+  // 1/2 (g_n + g_n+1) . (q_n+1 - q_n) plus the rest, q_n+1 - q_n = scale * dir as given to
+  // work_before() and work_after(). The contact works are added by the same rule.
+  void book_work(const double* before, const double* dir, double scale, double rest_weight_old,
+                 double rest_weight_new) {
     for (int c = 0; c < works_; ++c)
       z()[c] = before[c] + 0.5 * (along_old_[c] + along_new_[c]) + rest_weight_old * work_rest_old_[c] +
                rest_weight_new * work_rest_[c];
+    system_->book_contact_works(dir, scale, rest_weight_old, rest_weight_new, z());
   }
 
   // Views of the live state y = [q | v | z] and of the latest rates [v | a | dz/dt].

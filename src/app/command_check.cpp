@@ -66,8 +66,8 @@ class CheckCommand final : public Command {
                     l.coordinates, l.contacts, l.omega_max);
       if (l.blow_up_dt > l.dt && std::isfinite(l.blow_up_dt))
         std::printf("  blow-up limit of dt        %.4g s (the normal and wall-body modes): between the two, the %s mode grows\n"
-                    "                             only to its %s cap, and sticking contacts creep or chatter there (just\n"
-                    "                             beyond the first the dissipation check stops the run, further out none may)\n",
+                    "                             only to its %s cap, and sticking contacts creep or chatter there with the\n"
+                    "                             energy balanced: no check can stop such a run (kiln sweep shows the drift)\n",
                     l.blow_up_dt, l.mode.c_str(), l.mode == "rolling" ? "rolling" : "Coulomb");
       if (std::isfinite(est.rayleigh))
         std::printf("  Rayleigh time step         %.4g s (smallest particle); dt is %.1f %% of it\n", est.rayleigh,

@@ -187,6 +187,7 @@ void DemSystem::state(SnapshotFields& f) {
   f.field("committed_angle", committed_angle_);
   f.field("trial_angle", trial_angle_);
   f.field("work_force", work_force_);
+  heat_work_state(f);
   f.field("body_reference", body_ref_);
   f.field("particle_at_slot", particle_at_);
   f.field("ranked_share", ranked_share_);
@@ -229,6 +230,10 @@ void DemSystem::evaluate(double t, const double* y, double* ydot, Part part, con
   }
   Evaluation e = begin_evaluation(t, y, ydot);
   e.conduct = thermal_ && part == Part::all;
+  if (heat_by_step_ && part == Part::all) {
+    heat_work_.swap(heat_work_before_);
+    heat_work_.assign(pp_.size() + pw_.size(), {});
+  }
   particle_contact_forces(e);
   if (e.threaded) rows_to_particles(e);
   wall_contact_forces(e);

@@ -13,11 +13,10 @@
 // on the relative motion, shared by beta: while a friction spring holds energy, its particles'
 // temperatures include their shares of it (at most 1/2 k_t xi^2 per contact, ~1e-9 J in the
 // shipped cases), and energy() subtracts it from `thermal` and `heat_from_dissipation`. So the
-// heat made equals the friction dissipation of the ledger, whatever the springs did (exactly under
-// ARKODE; to first order in dt under the Verlet schemes, whose ledger is their own work component
-// while the temperatures integrate the power at predicted velocities: README, Heat);
-// a heat rate from stick and slip phases could not be: the Coulomb cap resets the spring (the
-// LIGGGHTS choice, tangential_force.h), which moves stored energy by a jump.
+// heat made equals the friction dissipation of the ledger, whatever the springs did, to round-off:
+// under ARKODE both integrate the same power; the Verlet schemes book each contact's heat by their
+// works' trapezoid (contact_works.cpp). A heat rate from stick and slip phases could not be: the
+// Coulomb cap shortens the spring (contact/capped_spring.h), which moves stored energy by a jump.
 //
 // One derivative evaluation: positions and velocities in, accelerations and ledger rates out.
 // Contact history (springs measured from the contact frame of the last accepted step) is written
@@ -104,6 +103,12 @@ class DemSystem final : public OdeSystem {
     *g = work_force_.data();
     return works_;  // ledger_damping, ledger_friction[, ledger_walls]
   }
+  // Heat made by dissipation booked per contact by the step (contact_works.cpp): under the Verlet
+  // schemes, with the trapezoid of their works, so heat equals beta times the ledger's
+  // dissipation to round-off.
+  void book_contact_works_by_step() override { heat_by_step_ = thermal_ && heat_power_factor_friction_ > 0; }
+  void book_contact_works(const double* dir, double scale, double rest_weight_old, double rest_weight_new,
+                          double* z) override;
   // Contact events: one function per candidate contact, its overlap (onset when it rises through 0).
   int event_count() const override { return events_ ? pp_.size() + pw_.size() : 0; }
   void event_functions(double t, const double* y, double* g) const override;
@@ -351,6 +356,20 @@ class DemSystem final : public OdeSystem {
   double heat_made(double work_rate, double damping_power) const {
     return heat_power_factor_friction_ * work_rate + heat_power_factor_damping_ * damping_power;
   }
+  // A touching contact's heat rate as a row on the velocities of its particles i and j (j < 0: a
+  // wall), hx (v_xi - v_xj) + hy (v_yi - v_yj) - ti w_i - tj w_j, plus what does not go through
+  // them (a moving wall's part): its work and dashpot rows (ContactRow) times the heat factors.
+  // Particle i takes `share` of it, j the rest. Kept at the latest and the previous full evaluation
+  // when the heat is booked by the step (book_contact_works).
+  void heat_work_state(SnapshotFields& f);  // the latest evaluation's, for checkpoints
+  struct HeatWork {
+    int i = -1, j = -1;
+    double share = 0, hx = 0, hy = 0, ti = 0, tj = 0, rest = 0;
+  };
+  HeatWork heat_work(int i, int j, double share, const ContactRow& row) const {
+    const double f = heat_power_factor_friction_, d = heat_power_factor_damping_;
+    return {i, j, share, f * row.gx + d * row.dx, f * row.gy + d * row.dy, f * row.torque_i, f * row.torque_j, 0.0};
+  }
 
   // Conduction (stage_conduction.cpp).
   double pair_conductance(const double* px, const double* py, int p) const;
@@ -389,6 +408,8 @@ class DemSystem final : public OdeSystem {
   bool thermal_ = false;
   bool events_ = false;  // contact events: the acting set is locked within a step
   double heat_power_factor_damping_ = 0, heat_power_factor_friction_ = 0;  // 1 when that dissipation heats
+  bool heat_by_step_ = false;  // book_contact_works_by_step(): the contacts' heat is booked by the step
+  std::vector<HeatWork> heat_work_, heat_work_before_;  // per contact: pairs, then walls
   std::vector<double> capacity_, inv_capacity_;
   StateLayout layout_;
   std::vector<double> radius_, inv_radius_, mass_, inv_mass_, inertia_, inv_inertia_;

@@ -42,6 +42,7 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
     ParticleSum* to = sums_.data();
     HeatRow* heat_rows = pp_.heat_rows.data();
     double* conductance = pp_.conductance.data();
+    HeatWork* heat_work = thermal && heat_by_step_ ? heat_work_.data() : nullptr;  // booked by the step
     // A contact's heat: its row on several threads, added to its two particles on one.
     auto book_heat = [&](int p, const HeatRow& heat) {
       if constexpr (Threaded)
@@ -149,11 +150,15 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
       sums.damping += f.damping_power;
       sums.friction_work += f.work_rate;
       if (thermal) {
-        const double made = heat_made(f.work_rate, f.damping_power);
         const double share = laws_[list.law[p]].heat_share;
-        heat.to_i += share * made;
-        heat.to_j += (1 - share) * made;
-        sums.heat_generated += made;
+        if (heat_work) {
+          heat_work[p] = this->heat_work(i, j, share, row);
+        } else {
+          const double made = heat_made(f.work_rate, f.damping_power);
+          heat.to_i += share * made;
+          heat.to_j += (1 - share) * made;
+          sums.heat_generated += made;
+        }
         book_heat(p, heat);
       }
       sums.worst = std::max(sums.worst, c.overlap * std::max(pi.inv_r, pj.inv_r));

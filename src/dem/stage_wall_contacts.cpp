@@ -71,9 +71,19 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     load.torque += cross(point - wall_centre_[wall], Vec2{-f.fx, -f.fy}) - f.couple;
     load.power += power;
     if (thermal) {  // the wall keeps its share
-      const double made = laws_[pw_.law[p]].heat_share * heat_made(f.work_rate, f.damping_power);
-      add_heat_row(sums, list.si[p], -1, {made, 0.0});
-      e.heat_generated += made;
+      const double share = laws_[pw_.law[p]].heat_share;
+      const double made = share * heat_made(f.work_rate, f.damping_power);
+      if (heat_by_step_) {  // the wall's velocity and spin go into the rest
+        HeatWork w = heat_work(i, -1, 1.0, row);
+        w.hx *= share;
+        w.hy *= share;
+        w.ti *= share;
+        w.rest = made - (w.hx * e.vx[i] + w.hy * e.vy[i] - (e.w ? w.ti * e.w[i] : 0.0));
+        heat_work_[pp_.size() + p] = w;
+      } else {
+        add_heat_row(sums, list.si[p], -1, {made, 0.0});
+        e.heat_generated += made;
+      }
     }
     e.worst = std::max(e.worst, hit.overlap * inv_radius_[i]);
   }

@@ -100,15 +100,30 @@ nlohmann::json run_order_study(const OrderOptions& o_in) {
     auto within = [&](double p) { return p >= nominal - 0.2 && p <= nominal + 0.35; };
     const int last = static_cast<int>(orders.size()) - 1;
     const bool rising = last >= 1 && within(orders[last]) && orders[last] > orders[last - 1];
-    const std::string verdict = !(slope > 0.5)        ? "not converging"
-                                : within(slope)       ? "matches"
-                                : slope < nominal && rising ? "pre-asymptotic (the finest halving matches)"
-                                : slope < nominal     ? "reduced"
-                                                      : "above nominal (pre-asymptotic?)";
+    // A fit is read only where the ladder has settled: the per-halving orders of the fitted levels
+    // agree within 0.3 (the verification matrix's rule: a lost order costs at least 1). Two
+    // halvings of 2.05 and 6.13 fit 4.09 and "matched" erk4 on a sticking pair by chance.
+    double lowest = INFINITY, highest = -INFINITY;
+    for (int k = from; k <= last; ++k) {
+      lowest = std::min(lowest, orders[k]);
+      highest = std::max(highest, orders[k]);
+    }
+    const bool settled = last < from || (highest - lowest <= 0.3);  // NaN orders: not settled
+    const std::string unsettled =
+        format("not settled (the halvings over the fitted levels give orders %.2f to %.2f: more levels, --levels %d, or a "
+               "smaller --dt would settle it)",
+               lowest, highest, o.levels + 2);
+    const std::string verdict = !(slope > 0.5)                ? "not converging"
+                                : settled && within(slope)    ? "matches"
+                                : slope < nominal && rising   ? "pre-asymptotic (the finest halving matches)"
+                                : !settled                    ? unsettled
+                                : slope < nominal             ? "reduced"
+                                                              : "above nominal (pre-asymptotic?)";
     entry["dt"] = std::vector<double>(dts.begin(), dts.begin() + count);
     entry["error"] = errors;
     entry["observed_orders"] = orders;
     entry["fitted_order"] = slope;
+    entry["settled"] = settled;
     entry["verdict"] = verdict;
     std::vector<long> evals;
     std::vector<double> seconds;

@@ -142,8 +142,8 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   const double blow_up = conduction_binds ? limit : est.limit.blow_up_dt;
   const std::string also = blow_up > limit && std::isfinite(blow_up)
                                ? format("; blow-up limit %.5g s (normal and wall-body modes: between the two, sticking "
-                                        "contacts creep within their cap; the dissipation check stops a run just beyond "
-                                        "the first, further out none may)",
+                                        "contacts creep within their cap with the energy balanced, no check stops them: "
+                                        "the fields above drift instead)",
                                         blow_up)
                                : std::string();
   std::string boundary;

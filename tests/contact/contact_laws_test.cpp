@@ -62,13 +62,40 @@ TEST_CASE("tangential spring sticks below mu Fn and slides at the Coulomb limit"
   CHECK_FALSE(stick.sliding);
   CHECK(stick.spring == 1.1e-5);
   CHECK(stick.force == Approx(-1000 * 1.1e-5 - 0.1 * 0.01));
-  // Sliding: force capped at mu Fn, the spring alone set to carry it.
+  // Sliding with the spring beyond the cap: force capped at mu Fn, the spring shortened to carry it.
   auto slide = tangential_force(law, 1e-2, 0.5, 1.0);
   CHECK(slide.sliding);
   CHECK(std::abs(slide.force) == Approx(0.5));
   CHECK(-law.k * slide.spring == Approx(slide.force));
-  // A tensile normal force carries no friction.
+  // Sliding because of the dashpot: the spring keeps its elongation (it was lengthened to
+  // k |s| = mu Fn before, storing energy nothing had put in).
+  auto fast = tangential_force(law, 1e-4, 10.0, 1.0);
+  CHECK(fast.sliding);
+  CHECK(fast.force == Approx(-0.5));
+  CHECK(fast.spring == 1e-4);
+  // A tensile normal force carries no friction, and its spring holds nothing.
   CHECK(tangential_force(law, 1e-3, 0.1, -2.0).force == 0.0);
+  CHECK(tangential_force(law, 1e-3, 0.1, -2.0).spring == 0.0);
+}
+
+TEST_CASE("the cap never lengthens a spring: a capped spring-dashpot takes at least the power its spring stores",
+          "[contact]") {
+  // Over a grid of springs s, rates v and caps L: the power taken, -F v, is never below the rate
+  // the spring after the cap stores, k s' v (what the ledger books as dissipated never falls), and
+  // |s'| <= |s|. The old cap (k |s'| = L whenever slipping) failed both where the dashpot helped.
+  const double k = 1000, c = 0.5;
+  int slipping = 0;
+  for (double s : {-2e-3, -5e-4, -1e-5, 0.0, 1e-5, 5e-4, 2e-3})
+    for (double v : {-3.0, -0.2, -1e-3, 0.0, 1e-3, 0.2, 3.0})
+      for (double limit : {0.0, 0.1, 1.0}) {
+        const CappedSpringResult r = capped_spring(k, c, limit, s, v);
+        INFO("s " << s << ", v " << v << ", L " << limit);
+        CHECK(std::abs(r.spring) <= std::abs(s));
+        CHECK(k * std::abs(r.spring) <= std::max(limit, k * std::abs(s) * !r.slipping) * (1 + 1e-15));
+        CHECK(-r.force * v >= k * r.spring * v - 1e-15);
+        slipping += r.slipping;
+      }
+  CHECK(slipping > 40);  // most of the grid slips
 }
 
 TEST_CASE("the contact points' relative displacement is exact on a flat wall and second order between discs",
@@ -109,11 +136,15 @@ TEST_CASE("rolling resistance: the constant torque mu_r R* Fn while rolling, a s
   for (RollingModel model : {RollingModel::constant, RollingModel::epsd}) {
     const RollingLaw law = rolling_law(model, mu_r, k_n, r_eff, inertia, inertia, m_eff, 0.3, fn);
     CHECK(law.limit == Approx(2e-4));
-    // Rolling: the torque is the cap against the spin, the spring carries it.
+    // Rolling: the torque is the cap against the spin; a spring beyond the cap is shortened to
+    // carry it, one within it is kept (contact/capped_spring.h).
     const auto rolling = rolling_torque(law, 0.0, 1e3);
     CHECK(rolling.rolling);
     CHECK(rolling.torque == Approx(-2e-4));
-    CHECK(-law.k * rolling.spring == Approx(rolling.torque));
+    CHECK(rolling.spring == 0.0);
+    const auto wound = rolling_torque(law, 3 * law.limit / law.k, 1e3);
+    CHECK(wound.torque == Approx(-2e-4));
+    CHECK(-law.k * wound.spring == Approx(wound.torque));
     // At rest: the spring holds whatever is below the cap.
     const auto rest = rolling_torque(law, 0.5 * law.limit / law.k, 0.0);
     CHECK_FALSE(rest.rolling);

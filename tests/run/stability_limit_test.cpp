@@ -130,24 +130,34 @@ TEST_CASE("the slope disc's limit is each integrator's own on its tangential-rot
   CHECK(undamped.dt_limit > 1.3 * vv.dt_limit);
 }
 
-TEST_CASE("velocity Verlet beyond the slope disc's tangential limit is stopped when friction gives energy back",
+TEST_CASE("velocity Verlet just beyond the slope disc's tangential limit chatters at the caps, powered by creep, "
+          "with its ledger balanced and friction dissipating",
           "[stability][checks]") {
-  // At 2.6e-4 s (1.02 of the limit) the tangential-rotational mode grows 7.5 % a step until the
-  // contact slips: the disc climbs the slope, friction's ledger entry goes negative and balances
-  // the energy check, which let it run to the end before.
-  const Scene scene = parse_scene(slope_disc, "slope_disc.yaml", {"dt=2.6e-4"});
-  try {
-    run_scene(scene, {"", true});
-    FAIL("the run went to the end");
-  } catch (const InstabilityError& e) {
-    const std::string m = e.what();
-    CHECK(m.find("dissipation went negative") != std::string::npos);
-    CHECK(m.find("tangential-rotational mode") != std::string::npos);
-  }
-  // Below the limit the disc stays at rest and no check fires.
+  // At 2.6e-4 s (1.02 of the limit) the tangential-rotational mode grows until the Coulomb and
+  // rolling caps hold it: the disc chatters and creeps down the slope, the energy it gains from
+  // its descent. Before the cap stopped lengthening springs (contact/capped_spring.h), each slip
+  // stored energy nothing had put in and the run was stopped because friction's ledger went
+  // negative: the check caught the law's artifact, not the mode. `kiln run` refuses this dt
+  // without --force (the next test: "sticking contacts creep or chatter").
+  auto late_spin = [](const std::string& dt) {
+    testing::Run run(slope_disc, {"dt=" + dt});
+    run.integrator->set_stop_time(0.3);
+    const EnergyLedger initial = run.system->energy(0, run.y.data());
+    double spin = 0;
+    while (run.t() < 0.3 * (1 - 1e-12)) {
+      run.step();
+      if (run.t() > 0.15) spin = std::max(spin, std::abs(run.omega(0)));
+    }
+    const EnergyLedger e = run.system->energy(run.t(), run.y.data());
+    CHECK(e.dissipated_friction >= 0);
+    CHECK(std::abs(balance_error(initial, e)) < 1e-3 * exchanged(initial, e));
+    return spin;
+  };
+  // Below the limit the disc rests (5e-18 rad/s), beyond it it chatters (1.7e-2 rad/s measured).
+  CHECK(late_spin("2.5e-4") < 1e-12);
+  CHECK(late_spin("2.6e-4") > 1e-3);
   const auto healthy = run_scene(parse_scene(slope_disc, "slope_disc.yaml", {"dt=2.5e-4"}), {"", true});
   CHECK(healthy["t_end"].get<double>() == Approx(0.3));
-  CHECK(healthy["energy"]["dissipated_friction"].get<double>() >= 0);
 }
 
 TEST_CASE("between the slope disc's tangential-rotational limit and the normal modes' blow-up limit velocity Verlet "
@@ -204,12 +214,14 @@ t_end: 0.01
   CHECK(est.dt_limit == Approx(2 / std::sqrt(k / m)).epsilon(1e-3));
 }
 
-TEST_CASE("kiln sweep's boundary is the first failure: the slope disc under velocity Verlet fails just beyond its "
-          "tangential-rotational limit, creeps further out, and the window is reported",
+TEST_CASE("kiln sweep on the slope disc under velocity Verlet: every run between the tangential-rotational and the "
+          "blow-up limit drifts, the first failure is at the blow-up limit",
           "[stability][study]") {
-  // Ten steps from 2.4e-4 to 3.7e-4 s: 2.64e-4 s stopped (dissipation), 2.77e-4 to 3.53e-4 s run to
-  // the end (the disc creeps), 3.7e-4 s blows up. The sweep printed "between 3.53e-4 and 2.64e-4 s"
-  // and a ratio of their mean, 1.195, before.
+  // Ten steps from 2.4e-4 to 3.7e-4 s. The runs beyond the tangential-rotational limit (2.55e-4 s)
+  // go to the end with the disc creeping: the sweep's position column drifts from 7e-8 m
+  // (2.64e-4 s) to 6e-4 m; 3.7e-4 s blows up, so the boundary is at the blow-up limit. Before the
+  // cap stopped lengthening springs, 2.64e-4 s was stopped by the dissipation check (the cap's
+  // stored energy, not the mode), and the sweep reported a window of stable runs above it.
   SweepOptions o;
   o.scene = written(slope_disc, "slope_disc.yaml");
   o.integrator = "velocity-verlet";
@@ -222,9 +234,10 @@ TEST_CASE("kiln sweep's boundary is the first failure: the slope disc under velo
   REQUIRE(s["largest_stable_dt"].is_number());
   REQUIRE(s["smallest_unstable_dt"].is_number());
   CHECK(s["largest_stable_dt"].get<double>() < s["smallest_unstable_dt"].get<double>());
-  CHECK(s["measured_over_predicted"].get<double>() == Approx(1).margin(0.03));
-  CHECK(s["stable_above_boundary"].get<double>() > 3.4e-4);
-  CHECK(s["estimate"]["blow_up_dt_limit"].get<double>() == Approx(3.6006e-4).epsilon(1e-3));
+  const double blow_up = s["estimate"]["blow_up_dt_limit"].get<double>();
+  CHECK(blow_up == Approx(3.6006e-4).epsilon(1e-3));
+  CHECK(s["smallest_unstable_dt"].get<double>() / blow_up == Approx(1).margin(0.03));
+  CHECK(s["stable_above_boundary"].is_null());
   std::filesystem::remove_all(std::filesystem::path(o.scene).parent_path());
 }
 

@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 
 #include "src/base/error.h"
 #include "src/scene/overrides.h"
@@ -198,6 +199,53 @@ TEST_CASE("an order fit below nominal whose halvings still rise to it is called 
   const auto study = run_order_study(harmonic("erk4", 2e-4, 4));
   CHECK(fitted(study) < 3.8);
   CHECK(study["integrators"][0]["verdict"].get<std::string>().rfind("pre-asymptotic", 0) == 0);
+}
+
+TEST_CASE("an order fit over halvings that disagree is called not settled, with what would settle it", "[study]") {
+  // Two equal spheres in an oblique impact, sticking throughout (mu 0.9 > (2/7) tan 30 deg), erk4
+  // with contact events against a fine reference: friction between discs is not yet integrated
+  // at the table's order (issue 25), and the per-halving orders wander: 0.68, 1.00, 1.34, 2.17,
+  // 6.98 from dt 3e-6 s. The fit over the finer levels, 4.57, was called "above nominal" (a dt a
+  // little off gives a fit near 4, then "matches": 2.05 and 6.13 gave 4.09). The verification
+  // matrix reads a fit only where its halvings agree within 0.3; so does kiln order now.
+  const std::filesystem::path dir = testing::fresh_dir("stick_pair");
+  std::filesystem::create_directories(dir);
+  const std::string file = (dir / "stick_pair.yaml").string();
+  std::ofstream(file) << R"(name: stick_pair
+mass_model: sphere
+gravity: [0, 0]
+materials:
+  ball: {density: 4000, stiffness: 1.0e6}
+contacts:
+  - {between: [ball, ball], model: linear, stiffness: 1.0e6, restitution: 1.0, friction: 0.9,
+     tangential_stiffness_ratio: 0.2857142857142857, tangential_damping_ratio: 0.0}
+particles:
+  - {material: ball, radius: 0.0025, velocity: [1.0, 0.0], at: [[0.0, 0.0]]}
+  - {material: ball, radius: 0.0025, velocity: [-1.0, 0.0], at: [[0.004331993, 0.0025005]]}
+integrator: erk4
+dt: 2.0e-6
+t_end: 8.0e-5
+)";
+  OrderOptions o;
+  o.scene = file;
+  o.integrators = {"erk4"};
+  o.sets = {"contact_events=true"};
+  o.reference = "fine";
+  o.quantity = "velocity";
+  o.dt = 3e-6;
+  o.levels = 6;
+  o.quiet = true;
+  const auto study = run_order_study(o);
+  const auto& entry = study["integrators"][0];
+  INFO(entry.dump());
+  CHECK(entry["settled"] == false);
+  CHECK(entry["verdict"].get<std::string>().rfind("not settled", 0) == 0);
+  CHECK(entry["verdict"].get<std::string>().find("--levels 8") != std::string::npos);
+  // A ladder that has settled keeps its verdict (the harmonic pair: 4.00, 4.00).
+  const auto harmonic_study = run_order_study(harmonic("erk4", 5e-5, 4));
+  CHECK(harmonic_study["integrators"][0]["settled"] == true);
+  CHECK(harmonic_study["integrators"][0]["verdict"] == "matches");
+  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("a study writes its JSON, CSV and plot into a directory whose path has a space and a quote", "[study]") {
