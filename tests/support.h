@@ -44,6 +44,32 @@ struct Run {
   double omega(int i) const { return system->rotates() ? y[system->omega_at() + i] : 0.0; }
 };
 
+// A disc hitting a floor at 70 degrees from the normal, mu 1, restitution 0.5 (linear), made
+// thermal so that friction heat can be checked against the ledger: the disc keeps beta = 1/2.
+inline std::string grazing_impact() {
+  return R"(name: grazing
+mass_model: sphere
+gravity: [0, 0]
+heat_from_dissipation: friction
+conduction_model: none
+materials:
+  glass: {density: 2500, stiffness: 2.0e4, restitution: 0.5, friction: 1.0, specific_heat: 800, conductivity: 1}
+  plate: {stiffness: 2.0e4, restitution: 0.5, friction: 1.0, conductivity: 1}
+particles:
+  - material: glass
+    radius: 0.002
+    temperature: 20
+    at: [[0.0, 0.00201]]
+    velocity: [0.9396926, -0.3420201]
+walls:
+  - {name: floor, material: plate, segment: [[-0.05, 0.0], [0.05, 0.0]]}
+integrator: erk2
+dt: 2.5e-7
+t_end: 0.002
+output_interval: 1.0e-4
+)";
+}
+
 // A small valid scene: two copper discs above a floor (the base of the bad-input tests).
 inline const std::string two_discs_on_a_floor = R"(name: ok
 materials:

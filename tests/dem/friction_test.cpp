@@ -77,35 +77,7 @@ TEST_CASE("velocity Verlet books no friction dissipation in an elastic stick imp
   }
 }
 
-namespace {
-
-// A disc hitting a floor at 70 degrees from the normal, mu 1, restitution 0.5 (linear), made
-// thermal so that friction heat can be checked against the ledger: the disc keeps beta = 1/2.
-std::string grazing_impact() {
-  return R"(name: grazing
-mass_model: sphere
-gravity: [0, 0]
-heat_from_dissipation: friction
-conduction_model: none
-materials:
-  glass: {density: 2500, stiffness: 2.0e4, restitution: 0.5, friction: 1.0, specific_heat: 800, conductivity: 1}
-  plate: {stiffness: 2.0e4, restitution: 0.5, friction: 1.0, conductivity: 1}
-particles:
-  - material: glass
-    radius: 0.002
-    temperature: 20
-    at: [[0.0, 0.00201]]
-    velocity: [0.9396926, -0.3420201]
-walls:
-  - {name: floor, material: plate, segment: [[-0.05, 0.0], [0.05, 0.0]]}
-integrator: erk2
-dt: 2.5e-7
-t_end: 0.002
-output_interval: 1.0e-4
-)";
-}
-
-}  // namespace
+using testing::grazing_impact;
 
 TEST_CASE("a grazing frictional impact: friction dissipation converges to the kinetic energy it took, and all of it becomes heat",
           "[friction]") {
