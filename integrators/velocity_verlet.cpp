@@ -16,6 +16,7 @@ void VelocityVerlet::start_without_evaluating(OdeSystem& system, double* y, doub
   slope_correction_ = system.has_implicit_part();
   dz_.assign(slope_correction_ ? layout_.size() : 0, 0.0);
   jdz_ = dz_;
+  z_unbooked_.assign(slope_correction_ ? layout_.nz : 0, 0.0);
 }
 
 void VelocityVerlet::step() {
@@ -60,12 +61,16 @@ void VelocityVerlet::step() {
     z[k] = z_old_[k] + 0.5 * h * (zrate_old_[k] + zrate[k]);
     if (dz) dz[k] = 0.5 * h * (zrate[k] - zrate_old_[k]);
   }
+  // The works, and the heat the contacts made (book_contact_works), go into z before the slope
+  // correction: z_{n+1} - z* includes that heat, so the next step's conduction sees it.
+  if (slope_correction_) std::copy_n(z, nz, z_unbooked_.data());
+  book_work(z_old_.data(), v_half_.data(), h, 0.5 * h, 0.5 * h);
   if (slope_correction_) {
+    for (int k = 0; k < nz; ++k) dz[k] += z[k] - z_unbooked_[k];
     if (!system_->latest_implicit_jacobian_times(dz_.data(), jdz_.data()))
       system_->implicit_jacobian_times(t_next, y_, dz_.data(), jdz_.data());
     for (int k = 0; k < nz; ++k) rate_[2 * nq + k] += jdz_[2 * nq + k];
   }
-  book_work(z_old_.data(), v_half_.data(), h, 0.5 * h, 0.5 * h);
   advance_time();
   ++stats_.steps;
 }

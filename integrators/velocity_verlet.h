@@ -27,6 +27,7 @@ class VelocityVerlet final : public VerletFamily {
   std::vector<double> z_old_, zrate_old_;
   bool slope_correction_ = false;  // z has a stiff linear part whose slope is moved to z_{n+1}
   std::vector<double> dz_, jdz_;   // z_{n+1} - z* (laid out as the state) and J times it
+  std::vector<double> z_unbooked_;  // z before the works and the contacts' heat are booked
 };
 
 }  // namespace kiln

@@ -104,15 +104,26 @@ nlohmann::json run_order_study(const OrderOptions& o_in) {
     // agree within 0.3 (the verification matrix's rule: a lost order costs at least 1). Two
     // halvings of 2.05 and 6.13 fit 4.09 and "matched" erk4 on a sticking pair by chance.
     double lowest = INFINITY, highest = -INFINITY;
+    bool undefined = false;  // an error of zero or below round-off's reach: no order there
     for (int k = from; k <= last; ++k) {
+      undefined = undefined || std::isnan(orders[k]);
       lowest = std::min(lowest, orders[k]);
       highest = std::max(highest, orders[k]);
     }
-    const bool settled = last < from || (highest - lowest <= 0.3);  // NaN orders: not settled
+    const bool settled = last < from || (!undefined && highest - lowest <= 0.3);
+    // What would settle it: an error that has stopped falling has met a floor (the reference's own
+    // accuracy, or round-off), which more levels only prolong.
+    std::string cure = format("more levels (--levels %d) or a smaller --dt would settle it", std::min(o.levels + 2, 30));
+    if (undefined)
+      cure = "an error of zero gives no order: compare another quantity, or a coarser --dt";
+    else if (last >= 0 && orders[last] < 0.3)
+      cure = format("the error stops falling at %.3g: a floor (the reference's tolerance, --fine-rtol, or round-off); "
+                    "a larger --dt or a tighter reference would settle it",
+                    errors[count - 1]);
     const std::string unsettled =
-        format("not settled (the halvings over the fitted levels give orders %.2f to %.2f: more levels, --levels %d, or a "
-               "smaller --dt would settle it)",
-               lowest, highest, o.levels + 2);
+        undefined ? "not settled (" + cure + ")"
+                  : format("not settled (the halvings over the fitted levels give orders %.2f to %.2f: %s)", lowest,
+                           highest, cure.c_str());
     const std::string verdict = !(slope > 0.5)                ? "not converging"
                                 : settled && within(slope)    ? "matches"
                                 : slope < nominal && rising   ? "pre-asymptotic (the finest halving matches)"
