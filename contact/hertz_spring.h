@@ -23,6 +23,10 @@ struct HertzSpring {
   static double energy(double k, double overlap) { return 0.4 * k * overlap * overlap * std::sqrt(overlap); }
   // dF/d(delta) of the spring, which the tangential and rolling springs scale with: 3/2 k delta^1/2.
   static double slope(double k, double overlap) { return 1.5 * k * std::sqrt(std::fmax(overlap, 0.0)); }
+  // Its rate as the overlap changes at `speed`: 3/4 k delta^-1/2 d(delta)/dt (0 at and past touch).
+  static double slope_rate(double k, double overlap, double speed) {
+    return overlap > 0 ? 0.75 * k * speed / std::sqrt(overlap) : 0.0;
+  }
   // delta^q, the dashpot's dependence on the overlap (the tangential dashpot's too): delta^1/4.
   static double dashpot_scale(double overlap) { return std::sqrt(std::sqrt(std::fmax(overlap, 0.0))); }
   // The dashpot vanishes with the overlap: the force is continuous as a contact begins.

@@ -19,6 +19,8 @@ struct LinearSpring {
   static double energy(double k, double overlap) { return 0.5 * k * overlap * overlap; }
   // dF/d(delta) of the spring, which the tangential and rolling springs scale with: k.
   static double slope(double k, double /*overlap*/) { return k; }
+  // Its rate as the overlap changes at `speed`: 0.
+  static double slope_rate(double /*k*/, double /*overlap*/, double /*speed*/) { return 0.0; }
   // delta^q, the dashpot's dependence on the overlap (the tangential dashpot's too): 1.
   static double dashpot_scale(double /*overlap*/) { return 1.0; }
   // A dashpot with q = 0 pushes at first touch: the force jumps as a contact begins.

@@ -74,6 +74,12 @@ inline double stiffness_slope(const NormalLaw& law, double overlap) {
   return with_normal_model(law.model, [&](auto m) { return m.slope(law.k, overlap); });
 }
 
+// d/dt of stiffness_slope at approach speed `speed` (N/(m s)): how fast the springs that scale with
+// it stiffen (contact/stick_slip.h).
+inline double stiffness_slope_rate(const NormalLaw& law, double overlap, double speed) {
+  return with_normal_model(law.model, [&](auto m) { return m.slope_rate(law.k, overlap, speed); });
+}
+
 // delta^q: how the dashpot (normal and tangential) grows with the overlap.
 inline double dashpot_scale(const NormalLaw& law, double overlap) {
   return with_normal_model(law.model, [&](auto m) { return m.dashpot_scale(overlap); });

@@ -104,21 +104,19 @@ void ArkodeIntegrator::resume(OdeSystem& system, double* y, double dt, const Sna
 
 void ArkodeIntegrator::create(OdeSystem& system, double t0, double* y, double dt, double h) {
   system_ = &system;
-  y_ = y;
+  live_ = y;
   dt_ = dt;
-  const int n = system.layout().size();
-  scratch_.assign(n, 0.0);
   check(SUNContext_Create(nullptr, &context_), "SUNContext_Create");
-  // The integrator works on the caller's state in place: no copy.
-  state_ = N_VMake_Serial(n, y, context_);
-  // Optimised kernels in place of Debian's unoptimised ones (vector_kernels.h); every vector
-  // ARKODE clones from the state inherits them.
-  use_vector_kernels(state_);
+  // Contact springs go into the state, so that every stage sees its own elongation, integrated
+  // at the table's order (the trapezoid between contact frames is second order at best).
+  history_ = system.integrate_history(true);
+  system.prepare(t_, y, dt);
+  if (history_) full_.assign(y, y + system.layout().size());
+  make_state();
   // An IMEX pair on a system without a stiff part (a scene without temperatures) integrates
   // f = f_E + 0: the additive method reduces to its explicit table, which is what runs.
   implicit_ = !method_.dirk_table.empty() && system.has_implicit_part();
   const bool imex = implicit_;
-  system.prepare(t_, y, dt);
   memory_ = ARKStepCreate(explicit_rhs, imex ? implicit_rhs : nullptr, t0, state_, context_);
   if (!memory_) throw std::runtime_error("ARKODE: ARKStepCreate failed");
   check(ARKStepSetUserData(memory_, this), "SetUserData");
@@ -130,21 +128,8 @@ void ArkodeIntegrator::create(OdeSystem& system, double t0, double* y, double dt
   ARKodeButcherTable_Free(explicit_table);
   ARKodeButcherTable_Free(implicit_table);
   check(flag, "SetTables");
-  // Tolerances: adaptive runs use the user's; fixed-step runs only stop the implicit iterations
-  // with them, so they are tight there (the solver error must not hide the truncation error).
+  set_tolerances();
   const bool adaptive = control_.rtol > 0;
-  StepControl tol = control_;
-  if (!adaptive) {
-    tol.rtol = 1e-12;
-    if (!(tol.atol > 0)) tol.atol = 1e-14;
-  } else if (!(tol.atol > 0)) {
-    tol.atol = 1e-3 * tol.rtol;
-  }
-  const std::vector<double> atol = system.absolute_tolerances(tol);
-  N_Vector atol_vector = N_VNew_Serial(n, context_);
-  std::copy(atol.begin(), atol.end(), N_VGetArrayPointer(atol_vector));
-  check(ARKStepSVtolerances(memory_, tol.rtol, atol_vector), "SVtolerances");
-  N_VDestroy(atol_vector);
   if (adaptive) {
     check(ARKStepSetInitStep(memory_, h), "SetInitStep");
   } else {
@@ -175,6 +160,56 @@ void ArkodeIntegrator::create(OdeSystem& system, double t0, double* y, double dt
   }
 }
 
+// Tolerances: adaptive runs use the user's; fixed-step runs only stop the implicit iterations
+// with them, so they are tight there (the solver error must not hide the truncation error).
+void ArkodeIntegrator::set_tolerances() {
+  StepControl tol = control_;
+  if (!(control_.rtol > 0)) {
+    tol.rtol = 1e-12;
+    if (!(tol.atol > 0)) tol.atol = 1e-14;
+  } else if (!(tol.atol > 0)) {
+    tol.atol = 1e-3 * tol.rtol;
+  }
+  const std::vector<double> atol = system_->absolute_tolerances(tol);
+  N_Vector atol_vector = N_VNew_Serial(static_cast<long>(atol.size()), context_);
+  std::copy(atol.begin(), atol.end(), N_VGetArrayPointer(atol_vector));
+  const int flag = ARKStepSVtolerances(memory_, tol.rtol, atol_vector);
+  N_VDestroy(atol_vector);
+  check(flag, "SVtolerances");
+}
+
+void ArkodeIntegrator::make_state() {
+  const int n = system_->state_size();
+  if (history_) {
+    const int n_live = system_->layout().size();
+    full_.resize(n);
+    system_->initial_history(full_.data() + n_live);
+    generation_ = system_->history_generation();
+  }
+  y_ = history_ ? full_.data() : live_;
+  scratch_.assign(n, 0.0);
+  if (state_) N_VDestroy(state_);
+  // The integrator works on the state in place: no copy.
+  state_ = N_VMake_Serial(n, y_, context_);
+  // Optimised kernels in place of Debian's unoptimised ones (vector_kernels.h); every vector
+  // ARKODE clones from the state inherits them.
+  use_vector_kernels(state_);
+}
+
+// The lists were rebuilt at the state in y_ (prepare(), rebuild_neighbours()): the history
+// components are new ones. ARKODE's vectors take their number and its state their values, from
+// the step's start; the step size and the error controller's history stay (ARKStepResize), and
+// the tolerances and the implicit solver are set again for the new length, as SUNDIALS asks.
+void ArkodeIntegrator::follow_history() {
+  if (!history_ || system_->history_generation() == generation_) return;
+  make_state();
+  check(ARKStepResize(memory_, state_, 1.0, t_, nullptr, nullptr), "Resize");
+  set_tolerances();
+  if (implicit_solver_) implicit_solver_->attach(memory_);
+  if (std::isfinite(stop_)) check(ARKStepSetStopTime(memory_, stop_), "SetStopTime");
+  ++history_resizes_;
+}
+
 void ArkodeIntegrator::set_stop_time(double t) {
   stop_ = t;
   if (control_.rtol > 0) check(ARKStepSetStopTime(memory_, t), "SetStopTime");
@@ -193,12 +228,9 @@ void ArkodeIntegrator::step() {
     h = std::min(h, bound);
   }
   system_->prepare(t_, y_, h);
+  follow_history();
   const double t_start = t_;
   step_start_.assign(y_, y_ + scratch_.size());
-  if (control_.contact_events) {
-    events_start_.resize(system_->event_count());
-    system_->event_functions(t_start, y_, events_start_.data());
-  }
   evolve_one_step();
   // A step that outran the lists (its stages may have missed a contact) is redone from its start:
   // a fixed step with lists rebuilt there to cover where it went, an adaptive one halved until
@@ -220,10 +252,8 @@ void ArkodeIntegrator::step() {
     } else {
       system_->rebuild_neighbours(t_start, y_, t_start + taken, step_reached_.data());
     }
-    if (control_.contact_events) {
-      events_start_.resize(system_->event_count());
-      system_->event_functions(t_start, y_, events_start_.data());
-    }
+    follow_history();
+    step_start_.assign(y_, y_ + scratch_.size());
     check(ARKStepReset(memory_, t_start, state_), "Reset");
     if (std::isfinite(stop_)) check(ARKStepSetStopTime(memory_, stop_), "SetStopTime");
     evolve_one_step();
@@ -256,6 +286,7 @@ void ArkodeIntegrator::step() {
     ++history_evals_;
   }
   system_->accept(t_);
+  if (history_) std::copy_n(y_, system_->layout().size(), live_);
   refresh_stats();
 }
 
@@ -292,13 +323,13 @@ void ArkodeIntegrator::evolve_one_step() {
   t_ = reached;
 }
 
-// Whether any event function changed sign between g0 and g; the directions go to flips_.
-bool ArkodeIntegrator::crossed(const std::vector<double>& g0, const std::vector<double>& g) {
+// Whether any event function turned negative (what the step locked no longer holds); which ones
+// go to flips_.
+bool ArkodeIntegrator::turned(const std::vector<double>& g) {
   bool any = false;
   flips_.assign(g.size(), 0);
   for (size_t k = 0; k < g.size(); ++k) {
-    if (g0[k] <= 0 && g[k] > 0) flips_[k] = 1;   // onset
-    if (g0[k] > 0 && g[k] <= 0) flips_[k] = -1;  // release
+    flips_[k] = g[k] < 0;
     any = any || flips_[k] != 0;
   }
   return any;
@@ -306,10 +337,10 @@ bool ArkodeIntegrator::crossed(const std::vector<double>& g0, const std::vector<
 
 bool ArkodeIntegrator::locate_event(double t_start) {
   std::vector<double>& g = events_now_;
-  g.resize(events_start_.size());
+  g.resize(system_->event_count());
   system_->event_functions(t_, y_, g.data());
-  if (!crossed(events_start_, g)) return false;
-  // Bisect the step for the first crossing. Each trial retakes one step of the method from the
+  if (!turned(g)) return false;
+  // Bisect the step for the first turn. Each trial retakes one step of the method from the
   // step's start, so the state at the event keeps the method's accuracy (an interpolant's would
   // not). Down to 1e-13 of the step: 43 retakes at most.
   double lo = 0, hi = t_ - t_start;
@@ -318,11 +349,11 @@ bool ArkodeIntegrator::locate_event(double t_start) {
     const double mid = 0.5 * (lo + hi);
     retake(t_start, mid);
     system_->event_functions(t_start + mid, y_, g.data());
-    (crossed(events_start_, g) ? hi : lo) = mid;
+    (turned(g) ? hi : lo) = mid;
   }
-  retake(t_start, hi);  // just past the crossing
+  retake(t_start, hi);  // just past the turn
   system_->event_functions(t_start + hi, y_, g.data());
-  crossed(events_start_, g);
+  turned(g);
   t_ = t_start + hi;
   return true;
 }
@@ -366,6 +397,8 @@ nlohmann::json ArkodeIntegrator::statistics() const {
                           {"rhs_evals_explicit", fe},
                           {"rhs_evals_implicit", fi},
                           {"rhs_evals_history", history_evals_},
+                          {"springs_in_state", history_},
+                          {"state_resizes", history_resizes_},
                           {"newton_iterations", newton},
                           {"last_step", last},
                           {"contact_events", events_located_},

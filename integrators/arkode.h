@@ -51,17 +51,29 @@ class ArkodeIntegrator final : public Integrator {
   // Binds the system and state and creates ARKODE at its time `t_arkode` (the run's time t_ may
   // differ from it by the round-off of ARKODE's summed steps), first step `h`.
   void create(OdeSystem& system, double t_arkode, double* y, double dt, double h);
+  // The vector ARKODE advances, over y_ (state_size() components); and, after a rebuild changed
+  // the system's history components, that vector resized (ARKStepResize) with the new ones.
+  void make_state();
+  void follow_history();
+  void set_tolerances();
   void fields(SnapshotFields& f, double& t_arkode, double& h);
   void refresh_stats();
   void evolve_one_step();
   bool locate_event(double t_start);
-  bool crossed(const std::vector<double>& g0, const std::vector<double>& g);
+  bool turned(const std::vector<double>& g);
   void retake(double t_start, double h);
 
   ArkodeMethod method_;
   StepControl control_;
   OdeSystem* system_ = nullptr;
+  // The state ARKODE advances: the caller's `live_` itself, or with contact history in the state,
+  // `full_` = [caller's state | history], the caller's part copied back after each step.
+  double* live_ = nullptr;
   double* y_ = nullptr;
+  bool history_ = false;
+  std::vector<double> full_;
+  long generation_ = 0;        // the system's history_generation() of the state's history
+  long history_resizes_ = 0;
   double t_ = 0, dt_ = 0, stop_ = INFINITY;
   double grid_start_ = 0;  // fixed steps: t = grid_start_ + grid_steps_ dt, exactly
   long grid_steps_ = 0;
@@ -73,9 +85,8 @@ class ArkodeIntegrator final : public Integrator {
   bool implicit_ = false;  // an IMEX pair with a stiff part to solve (false: its explicit table alone)
   std::vector<double> scratch_;  // f at the end of a step, for contact history
   long history_evals_ = 0;
-  std::vector<double> events_start_;  // event functions at the step's start
-  std::vector<double> events_now_;    // ... and at a trial end (kept: no allocation per step)
-  std::vector<int> flips_;       // +1 onset, -1 release, per candidate contact, of a located event
+  std::vector<double> events_now_;  // event functions at a trial end (kept: no allocation per step)
+  std::vector<int> flips_;       // 1 for each event function that turned at a located event
   std::vector<double> step_start_;  // the state a step started from
   std::vector<double> step_reached_;  // ... and where it went, when it outran the neighbour lists
   long events_located_ = 0;

@@ -88,6 +88,18 @@ class OdeSystem {
   // True when accept() keeps history that must come from an evaluation at the step's end.
   virtual bool has_history() const { return false; }
 
+  // Contact history in the state. A system whose contacts carry springs may let a multi-stage
+  // integrator advance them: after integrate_history(true) returns true, the state is
+  // [q | v | z | s], history_size() components s after the layout's, with rates from derivative().
+  // Their number and meaning change only when the neighbour lists are rebuilt (prepare(),
+  // rebuild_neighbours()), which changes history_generation(): the integrator then resizes its
+  // state and takes s from initial_history(), as it does when it starts or resumes.
+  virtual bool integrate_history(bool) { return false; }
+  virtual int history_size() const { return 0; }
+  virtual long history_generation() const { return 0; }
+  virtual void initial_history(double*) const {}
+  int state_size() const { return layout().size() + history_size(); }
+
   // IMEX split f = f_E + f_I: f_I is the stiff part, linear in y (heat conduction on a fixed
   // candidate list). Systems without one are fully explicit.
   virtual bool has_implicit_part() const { return false; }
@@ -95,10 +107,10 @@ class OdeSystem {
   // explicit components (conductances on moving positions), a stage's solve is iterated.
   virtual bool implicit_part_is_linear() const { return true; }
   virtual void explicit_part(double t, const double* y, double* ydot) { derivative(t, y, ydot); }
-  virtual void implicit_part(double, const double*, double* ydot) { std::fill_n(ydot, layout().size(), 0.0); }
+  virtual void implicit_part(double, const double*, double* ydot) { std::fill_n(ydot, state_size(), 0.0); }
   // jv = (d f_I / d y) v.
   virtual void implicit_jacobian_times(double, const double*, const double*, double* jv) {
-    std::fill_n(jv, layout().size(), 0.0);
+    std::fill_n(jv, state_size(), 0.0);
   }
   // jv's first-order block (z) = (d f_I / d y) v at the state of the latest derivative() (the
   // implicit part's Jacobian there, from what that evaluation kept: no geometry again); the rest
@@ -107,12 +119,13 @@ class OdeSystem {
   // The implicit Jacobian as a diffusion operator (see DiffusionJacobian), at (t, y); false when
   // the implicit part has no such form (then only the matrix-free solver applies).
   virtual bool diffusion_jacobian(double /*t*/, const double* /*y*/, DiffusionJacobian& /*out*/) const { return false; }
-  // Contact events. event_functions() has one function per candidate contact, positive while
-  // it touches: a sign change is an onset or a release. Its count changes only in prepare().
-  // lock_contacts() fixes the set of acting contacts; after a located event `flips` holds +1/-1
-  // for the contacts that just started/ended, 0 elsewhere.
+  // Contact events. lock_contacts() fixes what the right-hand side holds discontinuous for a step
+  // (which contacts act, which springs stick), and event_functions() gives functions that are
+  // non-negative while that locked set holds: an event is one turning negative. Their count
+  // changes only in prepare(). After a located event `flips` holds 1 for the functions that turned
+  // (the system switches what they lock), 0 elsewhere; without flips the system locks from the state.
   virtual int event_count() const { return 0; }
-  virtual void event_functions(double, const double*, double*) const {}
+  virtual void event_functions(double, const double*, double*) {}
   virtual void lock_contacts(double, const double*, const int* /*flips*/) {}
 
   // Work components: the first `count` components of z whose rates are works, of which the part
@@ -133,9 +146,9 @@ class OdeSystem {
   virtual void book_contact_works(const double* /*dir*/, double /*scale*/, double /*rest_weight_old*/,
                                   double /*rest_weight_new*/, double* /*z*/) {}
 
-  // Absolute tolerances per component from the step control.
+  // Absolute tolerances per component from the step control (state_size() of them).
   virtual std::vector<double> absolute_tolerances(const StepControl& c) const {
-    return std::vector<double>(layout().size(), c.atol);
+    return std::vector<double>(state_size(), c.atol);
   }
 };
 

@@ -1,5 +1,6 @@
-// Contact events: each candidate contact's overlap as an event function, and the acting set
-// locked within a step (integrators that locate contact onsets and releases).
+// Contact events: each candidate contact's overlap, and with friction or rolling resistance each
+// spring's stick or slip, as event functions; the acting set and the modes locked within a step
+// (integrators that locate contact onsets, releases and stick-slip switches).
 #include "src/dem/dem_system.h"
 
 namespace kiln {
@@ -17,29 +18,48 @@ double DemSystem::wall_overlap(const double* px, const double* py, const std::ve
   return wall_hit(px, py, a, b, pw_.i[p], pw_.j[p], hit, true) ? hit.overlap : -radius_[pw_.i[p]];
 }
 
-void DemSystem::event_functions(double t, const double* y, double* g) const {
+// Each function is positive while the locked set holds: an acting contact's overlap, an idle
+// one's negated overlap, then each capped element's margin from an evaluation of the state.
+void DemSystem::event_functions(double t, const double* y, double* g) {
   const double *px = y + x_at(), *py = y + y_at();
   std::vector<Vec2>&a = event_a_, &b = event_b_;  // kept: event location runs every step
   wall_geometry(t, y, a, b);
-  for (int p = 0; p < pp_.size(); ++p) g[p] = pair_overlap(px, py, p);
-  for (int p = 0; p < pw_.size(); ++p) g[pp_.size() + p] = wall_overlap(px, py, a, b, p);
+  const int np = pp_.size(), nw = pw_.size();
+  for (int p = 0; p < np; ++p) g[p] = pair_overlap(px, py, p) * (pp_.active[p] ? 1 : -1);
+  for (int p = 0; p < nw; ++p) g[np + p] = wall_overlap(px, py, a, b, p) * (pw_.active[p] ? 1 : -1);
+  if (!pp_.located) return;
+  // The margins come from the contact kernel: one evaluation here, at each trial end the search
+  // looks at (its cost, an evaluation per step and per bisection, is in the README's report).
+  event_rates_.resize(state_size());
+  derivative(t, y, event_rates_.data());
+  std::copy(pp_.margin.begin(), pp_.margin.end(), g + np + nw);
+  std::copy(pw_.margin.begin(), pw_.margin.end(), g + np + nw + 2 * np);
 }
 
 void DemSystem::lock_contacts(double t, const double* y, const int* flips) {
-  // After a located event the root finder's directions decide (the overlap there is ~0);
-  // contacts not known yet (the start, new candidates) act where their overlap is positive.
+  // After a located event the functions that stopped holding switch their contacts: a contact
+  // starts or ends (its springs stick from there), an element slips the way its trial force
+  // pulled at the event (the latest evaluation's) or sticks again. Contacts not known yet (the
+  // start, new candidates) act where their overlap is positive, and stick.
   const double *px = y + x_at(), *py = y + y_at();
   std::vector<Vec2>&a = event_a_, &b = event_b_;  // kept: event location runs every step
   wall_geometry(t, y, a, b);
-  for (int p = 0; p < pp_.size(); ++p) {
-    if (flips && flips[p]) pp_.active[p] = flips[p] > 0;
-    if (pp_.active[p] == 2) pp_.active[p] = pair_overlap(px, py, p) > 0;
-  }
-  for (int p = 0; p < pw_.size(); ++p) {
-    const int k = pp_.size() + p;
-    if (flips && flips[k]) pw_.active[p] = flips[k] > 0;
-    if (pw_.active[p] == 2) pw_.active[p] = wall_overlap(px, py, a, b, p) > 0;
-  }
+  const int np = pp_.size(), nw = pw_.size();
+  auto lock = [&](ContactList& list, int count, int first_overlap, int first_mode, auto overlap) {
+    for (int p = 0; p < count; ++p) {
+      if (flips && flips[first_overlap + p]) {
+        list.active[p] = !list.active[p];
+        if (list.located) list.mode[2 * p] = list.mode[2 * p + 1] = 0;
+      }
+      if (list.active[p] == 2) list.active[p] = overlap(p) > 0;
+      if (!flips || !list.located) continue;
+      for (int e = 2 * p; e < 2 * p + 2; ++e)
+        if (flips[first_mode + e] && !flips[first_overlap + p])
+          list.mode[e] = list.mode[e] ? 0 : (list.pull[e] >= 0 ? 1 : -1);
+    }
+  };
+  lock(pp_, np, 0, np + nw, [&](int p) { return pair_overlap(px, py, p); });
+  lock(pw_, nw, np, np + nw + 2 * np, [&](int p) { return wall_overlap(px, py, a, b, p); });
 }
 
 }  // namespace kiln

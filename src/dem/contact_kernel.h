@@ -13,6 +13,8 @@ namespace kiln {
 
 inline void DemSystem::forget(const ContactArrays& list, int p) {
   list.trial[p] = 0;
+  if (list.path_rate) list.path_rate[p] = 0;
+  if (list.mode) list.margin[2 * p] = list.margin[2 * p + 1] = 0;  // nothing to switch: holds
   if (list.rolling) list.trial_roll[p] = 0;
   list.trial_frame[p] = {};
 }
@@ -38,8 +40,20 @@ inline contact::RollingLaw DemSystem::rolling_law(const ContactCoefficients& lf,
                               pm.r_eff, pm.inertia, pm.spin_inertia, pm.m_eff, lf.law.rolling_damping_ratio, normal);
 }
 
+// A capped element (element e of list: 2p tangential, 2p + 1 rolling) in its locked mode, leaving
+// its event function and trial force for the event search (contact/stick_slip.h).
+[[gnu::always_inline]] inline contact::CappedSpringResult DemSystem::locked(const ContactArrays& list, int e, double k,
+                                                                            double c, double limit, double spring,
+                                                                            double rate, const contact::CapRates& rates) {
+  const contact::CappedSpringResult r = contact::locked_capped_spring(k, c, limit, spring, rate, list.mode[e]);
+  list.margin[e] = contact::cap_margin(k, c, limit, r.spring, rate, list.mode[e], rates);
+  list.pull[e] = -k * spring - c * rate;
+  return r;
+}
+
 // The normal force, then (with history) the tangential and rolling springs: their trial values
-// are the committed ones plus what the contact points moved since the committed frame. Inlined
+// are the committed ones plus what the contact points moved since the committed frame (springs in
+// the state: plus the slip path the integrator advanced since the last accepted step). Inlined
 // into each contact loop: called out of line it cost a call and a round trip of its arguments
 // through memory per contact. Compiled for a loop's normal model M (void: each law's own) and
 // for lists that may carry history (History) or never do.
@@ -59,26 +73,55 @@ template <bool History, class M>
   if (history && (lf.tangential || lf.rolling)) {
     const contact::ContactFrame& from = list.frame[p];
     const bool known = from.known();  // a contact that began in this step starts unstretched
+    // With stick and slip located: how fast the caps and the stiffnesses move.
+    contact::CapRates rates;
+    if (list.mode) {
+      const double slope = contact::stiffness_slope(nl, c.overlap);
+      if (slope > 0) rates.growth = contact::stiffness_slope_rate(nl, c.overlap, vn) / slope;
+      if (fn > 0) rates.normal = slope * vn / fn;
+    }
     if (lf.tangential) {
       const double slip_speed = drift + c.w_i * c.arm_i + c.w_other * c.arm_other;
       const contact::TangentialLaw law = tangential_law(lf, nl, c.overlap);
-      const double trial =
-          known ? list.spring[p] +
-                      contact::tangential_displacement(from, c.frame, c.arm_then, c.arm_i, c.spun_i, c.spun_other)
-                : 0.0;
-      const contact::TangentialResult t = contact::tangential_force(law, trial, slip_speed, fn);
+      double trial = 0;
+      if (list.stage_path) {
+        trial = list.spring[p] + (list.stage_path[p] - list.path[p]);
+        list.path_rate[p] = slip_speed;
+      } else if (known) {
+        trial = list.spring[p] +
+                contact::tangential_displacement(from, c.frame, c.arm_then, c.arm_i, c.spun_i, c.spun_other);
+      }
+      contact::TangentialResult t;
+      if (list.mode) {
+        const contact::CappedSpringResult e =
+            locked(list, 2 * p, law.k, law.c, law.mu * (fn > 0 ? fn : 0.0), trial, slip_speed, rates);
+        t = {e.force, e.spring, e.slipping};
+      } else {
+        t = contact::tangential_force(law, trial, slip_speed, fn);
+      }
       list.trial[p] = t.spring;
       f.tangential = t.force;
       f.work_rate -= t.force * slip_speed;
+    } else {
+      if (list.path_rate) list.path_rate[p] = 0;
+      if (list.mode) list.margin[2 * p] = 0;
     }
     if (lf.rolling) {
       const double relative_spin = c.w_i - c.w_other;
       const contact::RollingLaw law = rolling_law(lf, nl, c.overlap, pair_masses(c.i, c.j), fn);
       const double trial = known ? list.roll[p] + (c.spun_i - c.spun_other) : 0.0;
-      const contact::RollingResult r = contact::rolling_torque(law, trial, relative_spin);
+      contact::RollingResult r;
+      if (list.mode) {
+        const contact::CappedSpringResult e = locked(list, 2 * p + 1, law.k, law.c, law.limit, trial, relative_spin, rates);
+        r = {e.force, e.spring, e.slipping};
+      } else {
+        r = contact::rolling_torque(law, trial, relative_spin);
+      }
       list.trial_roll[p] = r.spring;
       f.couple = r.torque;
       f.work_rate -= r.torque * relative_spin;
+    } else if (list.mode) {
+      list.margin[2 * p + 1] = 0;
     }
     // Field by field: a struct copy through the stack stalled store forwarding (15 % of a run).
     contact::ContactFrame& to = list.trial_frame[p];

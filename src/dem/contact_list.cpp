@@ -33,6 +33,8 @@ void ContactList::replace(const std::vector<CandidatePair>& fresh, int particles
   // allocate nothing (freed and reallocated blocks grew a 100,000-disc run's peak by a third).
   std::vector<uint8_t>& kept_active = scratch_active;
   kept_active.assign(n, 2);
+  std::vector<int8_t>& kept_mode = scratch_mode;
+  kept_mode.assign(located ? 2 * n : 0, 0);
   std::vector<double>& kept_spring = trial;
   std::vector<double>& kept_roll = trial_roll;
   std::vector<contact::ContactFrame>& kept_frame = trial_frame;
@@ -46,6 +48,10 @@ void ContactList::replace(const std::vector<CandidatePair>& fresh, int particles
     if (w < kept && keys[walk[w]] == want) {
       const int old = walk[w];
       if (old < static_cast<int>(active.size())) kept_active[p] = active[old];
+      if (located && 2 * old < static_cast<int>(mode.size())) {
+        kept_mode[2 * p] = mode[2 * old];
+        kept_mode[2 * p + 1] = mode[2 * old + 1];
+      }
       if (history) {
         kept_spring[p] = spring[old];
         if (rolling) kept_roll[p] = roll[old];
@@ -54,6 +60,9 @@ void ContactList::replace(const std::vector<CandidatePair>& fresh, int particles
     }
   }
   active.swap(kept_active);
+  mode.swap(kept_mode);
+  margin.assign(mode.size(), 0.0);
+  pull.assign(mode.size(), 0.0);
   i.resize(n);
   j.resize(n);
   for (size_t p = 0; p < n; ++p) {
@@ -68,6 +77,9 @@ void ContactList::replace(const std::vector<CandidatePair>& fresh, int particles
   trial = spring;
   trial_roll = roll;
   trial_frame = frame;
+  // New lists, new state components: every path starts again from 0 (the integrator's too).
+  path.assign(integrated ? n : 0, 0.0);
+  trial_path = path;
   k.resize(n);
   c.resize(n);
   law.resize(n);
@@ -132,6 +144,13 @@ void ContactList::state(SnapshotFields& f) {
   f.field("trial", trial);
   f.field("roll", roll);
   f.field("trial_roll", trial_roll);
+  f.field("path", path);
+  f.field("trial_path", trial_path);
+  f.field("mode", mode);
+  if (!f.saving()) {
+    margin.assign(mode.size(), 0.0);
+    pull.assign(mode.size(), 0.0);
+  }
   for (auto [key, frames] : {std::pair{"frame", &frame}, std::pair{"trial_frame", &trial_frame}}) {
     std::vector<double> flat = f.saving() ? flatten(*frames) : std::vector<double>{};
     f.field(key, flat);

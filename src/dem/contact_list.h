@@ -41,6 +41,14 @@ struct ContactArrays {
   const contact::ContactFrame* frame;
   double *trial, *trial_roll;
   contact::ContactFrame* trial_frame;
+  // Springs in the state (ContactList::integrated): the slip paths of the state evaluated and of
+  // the last accepted step, and where the slip speeds go; null otherwise.
+  const double *stage_path, *path;
+  double* path_rate;
+  // Stick and slip located (ContactList::located): each element's locked mode, and where the
+  // evaluation leaves its event function and trial force; null otherwise.
+  const int8_t* mode;
+  double *margin, *pull;
 };
 
 struct ContactList {
@@ -59,6 +67,22 @@ struct ContactList {
   std::vector<double> spring, trial;            // tangential elongation (m)
   std::vector<double> roll, trial_roll;         // rolling spring angle (rad), only with `rolling`
   std::vector<contact::ContactFrame> frame, trial_frame;
+  // Springs in the state (DemSystem::integrate_history): each candidate's slip path, the integral
+  // of its slip speed since the lists were built (0 while it does not act), is a component of the
+  // state that the integrator advances at every stage. A spring's trial elongation is then its
+  // committed one plus the path since the last accepted step, `path` (its value there) and
+  // `trial_path` (the latest evaluation's), instead of the displacement between contact frames.
+  bool integrated = false;
+  std::vector<double> path, trial_path;
+  const double* stage_path = nullptr;  // the latest evaluation's state and rates, at this list's paths
+  double* path_rate = nullptr;
+  // Stick and slip located (contact events on lists with history, contact/stick_slip.h): two
+  // capped elements per candidate, its tangential spring at 2p and its rolling spring at 2p + 1,
+  // each with its mode locked for the step (0 sticks, +-1 slips with force +-limit), and from the
+  // latest evaluation their event functions and trial forces (-k s - c v: the sign a slip takes).
+  bool located = false;
+  std::vector<int8_t> mode;
+  std::vector<double> margin, pull;
 
   // Rows of the latest threaded evaluation (one per candidate; empty until one runs) and heat rows
   // of the latest thermal one, and where the particle at each slot k finds its rows: those where
@@ -77,7 +101,8 @@ struct ContactList {
   ContactArrays arrays() {
     return {i.data(),      j.data(),      si.data(),     sj.data(),     k.data(),          c.data(),
             law.data(),    history,       rolling,       spring.data(), roll.data(),       frame.data(),
-            trial.data(),  trial_roll.data(), trial_frame.data()};
+            trial.data(),  trial_roll.data(), trial_frame.data(), stage_path, path.data(), path_rate,
+            located ? mode.data() : nullptr, margin.data(), pull.data()};
   }
   // Takes the candidates of `particles` particles as the broadphase found them among the places
   // in slot order: pairs of slots (a < b), or (slot, segment), sorted. `at[s]` is the particle at
@@ -91,6 +116,7 @@ struct ContactList {
   void index(int particles, bool pairs);
   // Checkpoints: the pairs, their coefficients and their history.
   void state(SnapshotFields& f);
+  std::vector<int8_t> scratch_mode;
   std::vector<uint8_t> scratch_active;  // replace()'s and index()'s, kept: no allocation per rebuild
   std::vector<int> scratch_next, scratch_walk;
   std::vector<uint64_t> scratch_keys;
@@ -98,6 +124,7 @@ struct ContactList {
     spring.swap(trial);
     roll.swap(trial_roll);
     frame.swap(trial_frame);
+    path.swap(trial_path);
   }
 };
 

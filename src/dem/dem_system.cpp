@@ -72,6 +72,7 @@ DemSystem::DemSystem(const Scene& scene)
   pp_.rolling = pw_.rolling = rolling;
   thermal_ = scene.thermal;
   events_ = scene.control.contact_events;
+  pp_.located = pw_.located = events_ && history;  // stick and slip located with onsets and releases
   layout_.nq = (rotates_ ? 3 : 2) * n_;
   layout_.nz = ledger_count() + (thermal_ ? n_ : 0);
   heat_power_factor_friction_ = scene.heat_from_dissipation != HeatFromDissipation::none;
@@ -212,6 +213,25 @@ void DemSystem::state(SnapshotFields& f) {
   pw_.index(n_, false);
 }
 
+bool DemSystem::integrate_history(bool on) {
+  const bool integrated = on && pp_.history;
+  for (ContactList* list : {&pp_, &pw_}) {
+    list->integrated = integrated;
+    // A restored system keeps the paths of its checkpoint.
+    if (static_cast<int>(list->path.size()) != (integrated ? list->size() : 0)) {
+      list->path.assign(integrated ? list->size() : 0, 0.0);
+      list->trial_path = list->path;
+    }
+    if (!integrated) list->stage_path = list->path_rate = nullptr;
+  }
+  return integrated;
+}
+
+void DemSystem::initial_history(double* s) const {
+  std::copy(pp_.path.begin(), pp_.path.end(), s);
+  std::copy(pw_.path.begin(), pw_.path.end(), s + pp_.size());
+}
+
 void DemSystem::accept(double) {
   pp_.commit();
   pw_.commit();
@@ -282,6 +302,13 @@ DemSystem::Evaluation DemSystem::begin_evaluation(double t, const double* y, dou
   if (pp_.history) {
     std::copy_n(e.angle, n_, trial_angle_.data());
     trial_time_ = t;
+  }
+  if (pp_.integrated) {  // the slip paths after the layout's components: pairs, then walls
+    for (auto [list, at] : {std::pair{&pp_, layout_.size()}, std::pair{&pw_, layout_.size() + pp_.size()}}) {
+      list->stage_path = y + at;
+      list->path_rate = ydot + at;
+      std::copy_n(y + at, list->size(), list->trial_path.data());
+    }
   }
   return e;
 }
@@ -369,7 +396,7 @@ void DemSystem::close_ledger(const Evaluation& e, double* ydot) {
 // temperatures too: its ledger rate has a Jacobian row, -sum H_w v_i, which a scheme that
 // corrects its slopes with the Jacobian needs to keep the ledger closed.
 void DemSystem::implicit_conduction(double t, const double* y, double* ydot, const double* temps, bool wall_sources) {
-  std::fill_n(ydot, layout_.size(), 0.0);
+  std::fill_n(ydot, state_size(), 0.0);
   if (moving_walls_) update_walls(t, y);
   double* heat = ydot + temperature_at();
   const double heat_walls = conduct(t, y, temps ? temps : y + temperature_at(), heat, wall_sources);
@@ -378,7 +405,7 @@ void DemSystem::implicit_conduction(double t, const double* y, double* ydot, con
 }
 
 std::vector<double> DemSystem::absolute_tolerances(const StepControl& c) const {
-  std::vector<double> atol(layout_.size(), c.atol);
+  std::vector<double> atol(state_size(), c.atol);
   auto fill = [&](int from, int count, double value) {
     if (from >= 0 && std::isfinite(value)) std::fill_n(atol.begin() + from, count, value);
   };
@@ -389,6 +416,7 @@ std::vector<double> DemSystem::absolute_tolerances(const StepControl& c) const {
   fill(temperature_at(), n_, c.atol_temperature);
   fill(body_at(), bodies(), c.atol_position);
   fill(body_speed_at(), bodies(), c.atol_velocity);
+  fill(layout_.size(), history_size(), c.atol_position);  // slip paths: lengths
   return atol;
 }
 

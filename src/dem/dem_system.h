@@ -26,6 +26,7 @@
 
 #include "contact/normal_force.h"
 #include "contact/rolling_resistance.h"
+#include "contact/stick_slip.h"
 #include "contact/tangential_force.h"
 #include "integrators/integrator.h"
 #include "src/geometry/broadphase.h"
@@ -109,9 +110,22 @@ class DemSystem final : public OdeSystem {
   void book_contact_works_by_step() override { heat_by_step_ = thermal_ && heat_power_factor_friction_ > 0; }
   void book_contact_works(const double* dir, double scale, double rest_weight_old, double rest_weight_new,
                           double* z) override;
-  // Contact events: one function per candidate contact, its overlap (onset when it rises through 0).
-  int event_count() const override { return events_ ? pp_.size() + pw_.size() : 0; }
-  void event_functions(double t, const double* y, double* g) const override;
+  // Springs in the state (multi-stage integrators): one slip path per candidate contact of the
+  // lists with history, pairs then walls (ContactList::path), so each tangential elongation is
+  // integrated at the table's order; their rates are the slip speeds. Rolling springs need none:
+  // a rolling spring's trial angle is the committed one plus the particles' turned angles, which
+  // are state components already. The paths restart from 0 at each rebuild.
+  bool integrate_history(bool on) override;
+  int history_size() const override { return pp_.integrated ? pp_.size() + pw_.size() : 0; }
+  long history_generation() const override { return rebuilds_; }
+  void initial_history(double* s) const override;
+  // Contact events (contact_events.cpp): per candidate contact its overlap, positive while the
+  // contact is as locked (touching or apart); with friction or rolling resistance, then two per
+  // candidate, its tangential and rolling springs' stick or slip (contact/stick_slip.h).
+  int event_count() const override {
+    return events_ ? (pp_.size() + pw_.size()) * (pp_.located ? 3 : 1) : 0;
+  }
+  void event_functions(double t, const double* y, double* g) override;
   void lock_contacts(double t, const double* y, const int* flips) override;
 
   std::vector<double> initial_state() const;
@@ -349,6 +363,8 @@ class DemSystem final : public OdeSystem {
   contact::RollingLaw rolling_law(const ContactCoefficients& lf, const contact::NormalLaw& nl, double overlap,
                                   const PairMasses& pm, double normal) const;
   static void forget(const ContactArrays& list, int p);  // not touching: no history
+  static contact::CappedSpringResult locked(const ContactArrays& list, int e, double k, double c, double limit,
+                                            double spring, double rate, const contact::CapRates& rates);
   // The heat a contact's dissipation makes (W): its friction work, and its damping where the
   // scene says so (Nguyen et al. 2009, eq. 1: m c_p dT/dt = sum_j (H (T_j - T_i) + E_f / (2 dt))).
   // Friction heat is booked as the work of friction on the relative motion: what a spring holds
@@ -465,6 +481,7 @@ class DemSystem final : public OdeSystem {
 
   std::vector<Vec2> seg_a_, seg_b_;  // wall geometry at the latest time asked for
   mutable std::vector<Vec2> event_a_, event_b_;  // scratch of the event functions
+  std::vector<double> event_rates_;               // ... and of their evaluation (stick and slip)
   double seg_time_ = -1;
 };
 
