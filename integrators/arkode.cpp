@@ -267,6 +267,14 @@ void ArkodeIntegrator::step() {
     check(ARKStepReset(memory_, t_, state_), "Reset");
     if (std::isfinite(stop_)) check(ARKStepSetStopTime(memory_, stop_), "SetStopTime");
     ++events_located_;
+    // Switches that keep undoing each other at one instant (stick and slip of an element whose
+    // event functions disagree at the switch: see contact/stick_slip.h on dashpots) would stall
+    // the run at steps of 1e-19 s: stop it, saying so.
+    stalled_events_ = t_ - t_start < 1e-9 * dt_ ? stalled_events_ + 1 : 0;
+    if (stalled_events_ > 1000)
+      throw InstabilityError("contact events at t = " + std::to_string(t_) +
+                             " s: 1000 events in a row without the time advancing (stick and slip switching back "
+                             "and forth); run without contact_events");
     grid_start_ = t_;  // fixed steps go on from the event
     grid_steps_ = 0;
   } else {

@@ -90,6 +90,7 @@ class ArkodeIntegrator final : public Integrator {
   std::vector<double> step_start_;  // the state a step started from
   std::vector<double> step_reached_;  // ... and where it went, when it outran the neighbour lists
   long events_located_ = 0;
+  long stalled_events_ = 0;  // events in a row located at the step's start
   long neighbour_redos_ = 0;
   long skin_capped_ = 0;  // adaptive steps shortened to the neighbour lists' bound
 };
