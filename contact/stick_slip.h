@@ -10,11 +10,8 @@
 // The event functions are positive while the locked mode holds:
 //  - stick: L - |k s + c v|, the margin to the Coulomb (or rolling) limit. Its zero is the
 //    issue's |k_t xi + c_t v_t| - mu F_n = 0.
-//  - slip: m dF/dt - dL/dt with the spring on the cap: slip goes on while the trial force the
-//    spring would carry if it stuck grows at least as fast as the limit, and stick resumes where
-//    it falls behind (for a spring without dashpot, where the slip speed reverses against the
-//    cap's own motion). dF/dt = -(dk/dt s + k v) leaves out the dashpot's c dv/dt, which needs the
-//    accelerations: with a dashpot the switch back to stick is located on the spring's rates alone.
+//  - slip: while the force the element would carry if it stuck exceeds the cap, and where it is
+//    on the cap, while it would leave the cap (cap_margin below).
 // Both are exact for the linear spring without dashpot (the matrix's pair rows), where the stick
 // margin's zero is where the contact starts to slip and the slip function's is where it sticks.
 #pragma once
@@ -48,13 +45,23 @@ struct CapRates {
   return r;
 }
 
-// The event function of the locked element (above); `spring` is the one locked_capped_spring
-// returned. Positive while the mode holds.
-[[gnu::always_inline]] inline double cap_margin(double k, double c, double limit, double spring, double rate, int mode,
-                                                const CapRates& rates) {
+// The event function of the locked element (above); `spring` is the trial spring (before the cap)
+// and `held` the one locked_capped_spring returned. Positive while the mode holds.
+//  - stick: the margin L - |k s + c v|.
+//  - slip: the stick force's excess m (-k s - c v) - L while it is positive; with the spring on
+//    the cap it is -m c v (exact: not k (L / k) - L, whose rounding would decide), the dashpot
+//    pulling the way of the force. Where the excess is gone (always, for an element without
+//    dashpot, whose spring on the cap carries exactly L) the rates decide: slip goes on while the
+//    stick force would leave the cap faster than the cap moves, m dF/dt - dL/dt >= 0 with
+//    dF/dt = -(dk/dt s + k v). That leaves out c dv/dt (the accelerations are not known in the
+//    contact loop), which errs towards slip where v turns: an element that would stick there
+//    slips on until its spring's rate agrees, and no switch is undone at the instant it is made.
+[[gnu::always_inline]] inline double cap_margin(double k, double c, double limit, double spring, double held,
+                                                double rate, int mode, const CapRates& rates) {
   if (mode == 0) return limit - std::abs(k * spring + c * rate);
-  if (!(k > 0)) return -mode * c * rate - limit;  // a bare dashpot: slips while its force exceeds the cap
-  return -mode * k * (rates.growth * spring + rate) - rates.normal * limit;
+  const double excess = held != spring || limit == 0 ? -mode * c * rate : -mode * (k * held + c * rate) - limit;
+  if (excess > 0) return excess;
+  if (!(k > 0)) return excess;  // a bare dashpot: its excess alone decides
+  return -mode * k * (rates.growth * held + rate) - rates.normal * limit;
 }
-
 }  // namespace kiln::contact

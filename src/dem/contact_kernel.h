@@ -46,7 +46,7 @@ inline contact::RollingLaw DemSystem::rolling_law(const ContactCoefficients& lf,
                                                                             double c, double limit, double spring,
                                                                             double rate, const contact::CapRates& rates) {
   const contact::CappedSpringResult r = contact::locked_capped_spring(k, c, limit, spring, rate, list.mode[e]);
-  list.margin[e] = contact::cap_margin(k, c, limit, r.spring, rate, list.mode[e], rates);
+  list.margin[e] = contact::cap_margin(k, c, limit, spring, r.spring, rate, list.mode[e], rates);
   list.pull[e] = -k * spring - c * rate;
   return r;
 }

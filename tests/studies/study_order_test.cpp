@@ -208,26 +208,8 @@ TEST_CASE("friction between discs keeps erk4's order with springs in the state a
   // 1.00, 1.34, 2.17, 6.98 from dt 3e-6 s and the error stopped near 5.9e-9 (issue 25). With the
   // slip paths in the state and stick and slip locked per step they are 4.95 to 5.04 (erk4 meets
   // the harmonic contact at order 5, as on the frictionless pair) down to 7e-13.
-  const std::filesystem::path dir = testing::fresh_dir("stick_pair");
-  std::filesystem::create_directories(dir);
-  const std::string file = (dir / "stick_pair.yaml").string();
-  std::ofstream(file) << R"(name: stick_pair
-mass_model: sphere
-gravity: [0, 0]
-materials:
-  ball: {density: 4000, stiffness: 1.0e6}
-contacts:
-  - {between: [ball, ball], model: linear, stiffness: 1.0e6, restitution: 1.0, friction: 0.9,
-     tangential_stiffness_ratio: 0.2857142857142857, tangential_damping_ratio: 0.0}
-particles:
-  - {material: ball, radius: 0.0025, velocity: [1.0, 0.0], at: [[0.0, 0.0]]}
-  - {material: ball, radius: 0.0025, velocity: [-1.0, 0.0], at: [[0.004331993, 0.0025005]]}
-integrator: erk4
-dt: 2.0e-6
-t_end: 8.0e-5
-)";
   OrderOptions o;
-  o.scene = file;
+  o.scene = testing::case_path("pair_stick.yaml");
   o.integrators = {"erk4"};
   o.sets = {"contact_events=true"};
   o.reference = "fine";
@@ -254,6 +236,8 @@ t_end: 8.0e-5
   CHECK(floor["verdict"].get<std::string>().rfind("not settled", 0) == 0);
   CHECK(floor["verdict"].get<std::string>().find("stops falling") != std::string::npos);
   // A free flight, exact under velocity Verlet: errors of zero give no order, and no verdict.
+  const std::filesystem::path dir = testing::fresh_dir("free_flight");
+  std::filesystem::create_directories(dir);
   const std::string fly = (dir / "fly.yaml").string();
   std::ofstream(fly) << R"(name: fly
 materials:
