@@ -18,9 +18,14 @@ struct HertzSpring {
     const double root = std::sqrt(std::fmax(overlap, 0.0));  // continued by 0 past separation
     return k * overlap * root + c * std::sqrt(root) * speed;
   }
-  static double spring(double k, double overlap) { return k * overlap * std::sqrt(overlap); }
+  // Every function of the overlap is continued by 0 past separation: with contact events an acting
+  // contact keeps its law for the rest of a step after its release (delta^1/2 of a negative overlap
+  // was NaN, and a damped Hertz bounce under erk4 with events stopped on it at the release).
+  static double spring(double k, double overlap) { return k * overlap * std::sqrt(std::fmax(overlap, 0.0)); }
   // Elastic energy stored in the spring: 2/5 k delta^(5/2).
-  static double energy(double k, double overlap) { return 0.4 * k * overlap * overlap * std::sqrt(overlap); }
+  static double energy(double k, double overlap) {
+    return 0.4 * k * overlap * overlap * std::sqrt(std::fmax(overlap, 0.0));
+  }
   // dF/d(delta) of the spring, which the tangential and rolling springs scale with: 3/2 k delta^1/2.
   static double slope(double k, double overlap) { return 1.5 * k * std::sqrt(std::fmax(overlap, 0.0)); }
   // Its rate as the overlap changes at `speed`: 3/4 k delta^-1/2 d(delta)/dt (0 at and past touch).

@@ -111,14 +111,23 @@ nlohmann::json run_order_study(const OrderOptions& o_in) {
       highest = std::max(highest, orders[k]);
     }
     const bool settled = last < from || (!undefined && highest - lowest <= 0.3);
-    // What would settle it: an error that has stopped falling has met a floor (the reference's own
-    // accuracy, or round-off), which more levels only prolong.
+    // What would settle it. How small an error can get: the fine reference's relative tolerance,
+    // or round-off (an exact solution, Richardson's differences), times the quantity's size; within
+    // 1000 of that an error has met the floor, which more levels only prolong. An error that stops
+    // falling far above it has met no floor: the errors scatter (a kink inside the steps).
+    double size = 0;
+    for (double v : row[o.levels - 1].value) size = std::max(size, std::abs(v));
+    const bool at_floor = count > 0 && errors[count - 1] < 1e3 * (o.reference == "fine" ? o.fine_rtol : 1e-13) * size;
     std::string cure = format("more levels (--levels %d) or a smaller --dt would settle it", std::min(o.levels + 2, 30));
     if (undefined)
       cure = "an error of zero gives no order: compare another quantity, or a coarser --dt";
+    else if (at_floor)
+      cure = format("the error has reached the floor at %.3g (%s); a larger --dt would settle it", errors[count - 1],
+                    o.reference == "fine" ? "the fine reference's tolerance: a smaller --fine-rtol lowers it" : "round-off");
     else if (last >= 0 && orders[last] < 0.3)
-      cure = format("the error stops falling at %.3g: a floor (the reference's tolerance, --fine-rtol, or round-off); "
-                    "a larger --dt or a tighter reference would settle it",
+      cure = format("the error stops falling at %.3g, far above the reference's accuracy: the errors scatter, as a "
+                    "kink inside the steps makes them (an unlocated contact onset, release or stick-slip switch: "
+                    "contact events locate them)",
                     errors[count - 1]);
     const std::string unsettled =
         undefined ? "not settled (" + cure + ")"
@@ -129,7 +138,10 @@ nlohmann::json run_order_study(const OrderOptions& o_in) {
                                 : slope < nominal && rising   ? "pre-asymptotic (the finest halving matches)"
                                 : !settled                    ? unsettled
                                 : slope < nominal             ? "reduced"
-                                                              : "above nominal (pre-asymptotic?)";
+                                                              : "above nominal, settled (the quantity's leading "
+                                                                "error term cancels: after a located harmonic "
+                                                                "contact only the amplitude error is left, p + 1 "
+                                                                "for even p)";
     entry["dt"] = std::vector<double>(dts.begin(), dts.begin() + count);
     entry["error"] = errors;
     entry["observed_orders"] = orders;
