@@ -111,37 +111,48 @@ nlohmann::json run_order_study(const OrderOptions& o_in) {
       highest = std::max(highest, orders[k]);
     }
     const bool settled = last < from || (!undefined && highest - lowest <= 0.3);
-    // What would settle it. How small an error can get: the fine reference's relative tolerance,
-    // or round-off (an exact solution, Richardson's differences), times the quantity's size; within
-    // 1000 of that an error has met the floor, which more levels only prolong. An error that stops
-    // falling far above it has met no floor: the errors scatter (a kink inside the steps).
+    // What would settle it. How small an error can get, relative to the quantity's size: 1000 x the
+    // fine reference's tolerance, or (an exact solution, Richardson's differences) 1e-10, where
+    // round-off summed over the steps ends; an error below that has met the floor, which more
+    // levels only prolong. Halvings far above it that stop falling or disagree by more than 2 (no
+    // pre-asymptotic ladder swings so) scatter: a kink inside the steps.
     double size = 0;
     for (double v : row[o.levels - 1].value) size = std::max(size, std::abs(v));
-    const bool at_floor = count > 0 && errors[count - 1] < 1e3 * (o.reference == "fine" ? o.fine_rtol : 1e-13) * size;
-    std::string cure = format("more levels (--levels %d) or a smaller --dt would settle it", std::min(o.levels + 2, 30));
+    // (Or below 1e-12 outright: a quantity that passes near zero at t_end has a size below the
+    // motion's, whose round-off sets the floor.)
+    const bool at_floor =
+        count > 0 && (errors[count - 1] < (o.reference == "fine" ? 1e3 * o.fine_rtol : 1e-10) * size ||
+                      errors[count - 1] < 1e-12);
+    // More levels only draw more of such halvings (a chance one may even look like the nominal order).
+    const bool scattered = !at_floor && !undefined && (lowest < 0.3 || highest - lowest > 2);
+    std::string cure = format("more levels (--levels %d) or a smaller --dt may settle it", std::min(o.levels + 2, 30));
     if (undefined)
       cure = "an error of zero gives no order: compare another quantity, or a coarser --dt";
     else if (at_floor)
       cure = format("the error has reached the floor at %.3g (%s); a larger --dt would settle it", errors[count - 1],
                     o.reference == "fine" ? "the fine reference's tolerance: a smaller --fine-rtol lowers it" : "round-off");
-    else if (last >= 0 && orders[last] < 0.3)
-      cure = format("the error stops falling at %.3g, far above the reference's accuracy: the errors scatter, as a "
-                    "kink inside the steps makes them (an unlocated contact onset, release or stick-slip switch: "
+    else if (scattered)
+      cure = format("the error stops falling (finest %.3g), far above the reference's accuracy: the errors scatter, "
+                    "as a kink inside the steps makes them (an unlocated contact onset, release or stick-slip switch: "
                     "contact events locate them)",
                     errors[count - 1]);
     const std::string unsettled =
         undefined ? "not settled (" + cure + ")"
                   : format("not settled (the halvings over the fitted levels give orders %.2f to %.2f: %s)", lowest,
                            highest, cure.c_str());
-    const std::string verdict = !(slope > 0.5)                ? "not converging"
-                                : settled && within(slope)    ? "matches"
-                                : slope < nominal && rising   ? "pre-asymptotic (the finest halving matches)"
-                                : !settled                    ? unsettled
-                                : slope < nominal             ? "reduced"
-                                                              : "above nominal, settled (the quantity's leading "
-                                                                "error term cancels: after a located harmonic "
-                                                                "contact only the amplitude error is left, p + 1 "
-                                                                "for even p)";
+    // A ladder at the floor or scattered is judged by neither its fit nor a chance halving.
+    const std::string verdict = settled && within(slope)              ? "matches"
+                                : at_floor && (!settled || slope < nominal) ? unsettled
+                                : !(slope > 0.5)                      ? (scattered ? "not converging (" + cure + ")"
+                                                                                   : std::string("not converging"))
+                                : scattered                           ? unsettled
+                                : slope < nominal && rising           ? "pre-asymptotic (the finest halving matches)"
+                                : !settled                            ? unsettled
+                                : slope < nominal                     ? "reduced"
+                                                                      : "above nominal, settled (the quantity's "
+                                                                        "leading error term cancels, as the exit "
+                                                                        "velocity of a located harmonic contact's "
+                                                                        "does: p + 1 for even p)";
     entry["dt"] = std::vector<double>(dts.begin(), dts.begin() + count);
     entry["error"] = errors;
     entry["observed_orders"] = orders;
