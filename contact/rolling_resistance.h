@@ -33,16 +33,17 @@ enum class RollingModel { constant, epsd };
 struct RollingLaw {
   double k = 0;      // k_r (N m/rad)
   double c = 0;      // c_r (N m s/rad)
-  double limit = 0;  // M_max = mu_r R* F_n (N m), >= 0
+  double limit = 0;  // M_max = mu_r R* F_n (N m), F_n the cap's load (contact/normal_force.h cap_load)
 };
 
 // k_r and c_r of a contact. `k_normal`: the linear(ised) normal stiffness (N/m); `r_eff`: R*;
 // `inertia_r`: I_r (kg m^2); `spin_inertia`: the inertia of the bodies' relative rotation,
-// 1/(1/I_i + 1/I_j) (a wall: I_i); `m_eff`: the effective mass (kg); `eta`: the epsd damping ratio.
+// 1/(1/I_i + 1/I_j) (a wall: I_i); `m_eff`: the effective mass (kg); `eta`: the epsd damping ratio;
+// `load`: the normal load carrying the cap (N), cap_load's (>= 0 while the bodies overlap).
 inline RollingLaw rolling_law(RollingModel model, double mu_r, double k_normal, double r_eff, double inertia_r,
-                              double spin_inertia, double m_eff, double eta, double normal) {
+                              double spin_inertia, double m_eff, double eta, double load) {
   RollingLaw law;
-  law.limit = mu_r * r_eff * (normal > 0 ? normal : 0.0);
+  law.limit = mu_r * r_eff * load;
   if (model == RollingModel::epsd) {
     law.k = 2.25 * k_normal * mu_r * mu_r * r_eff * r_eff;
     law.c = eta * 2 * std::sqrt(inertia_r * law.k);

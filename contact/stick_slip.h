@@ -23,7 +23,8 @@ namespace kiln::contact {
 
 // How fast a contact's cap and stiffness move (per second): `growth` = (dk/dt) / k, the same for
 // every spring that scales with the normal stiffness; `normal` = (dF_n/dt) / F_n from the elastic
-// part of the normal force (0 without a compressive force), so dL/dt = normal L.
+// part of the cap's load (contact/normal_force.h cap_load; 0 where the load is 0), so
+// dL/dt = normal L.
 struct CapRates {
   double growth = 0;
   double normal = 0;

@@ -35,9 +35,9 @@ inline contact::TangentialLaw DemSystem::tangential_law(const ContactCoefficient
 }
 
 inline contact::RollingLaw DemSystem::rolling_law(const ContactCoefficients& lf, const contact::NormalLaw& nl,
-                                                  double overlap, const PairMasses& pm, double normal) const {
+                                                  double overlap, const PairMasses& pm, double load) const {
   return contact::rolling_law(lf.law.rolling_model, lf.law.rolling_friction, contact::stiffness_slope(nl, overlap),
-                              pm.r_eff, pm.inertia, pm.spin_inertia, pm.m_eff, lf.law.rolling_damping_ratio, normal);
+                              pm.r_eff, pm.inertia, pm.spin_inertia, pm.m_eff, lf.law.rolling_damping_ratio, load);
 }
 
 // A capped element (element e of list: 2p tangential, 2p + 1 rolling) in its locked mode, leaving
@@ -73,12 +73,13 @@ template <bool History, class M>
   if (history && (lf.tangential || lf.rolling)) {
     const contact::ContactFrame& from = list.frame[p];
     const bool known = from.known();  // a contact that began in this step starts unstretched
+    const double load = contact::cap_load(fn, f.dashpot, c.overlap);
     // With stick and slip located: how fast the caps and the stiffnesses move.
     contact::CapRates rates;
     if (list.mode) {
       const double slope = contact::stiffness_slope(nl, c.overlap);
       if (slope > 0) rates.growth = contact::stiffness_slope_rate(nl, c.overlap, vn) / slope;
-      if (fn > 0) rates.normal = slope * vn / fn;
+      if (load != 0) rates.normal = slope * vn / load;
     }
     if (lf.tangential) {
       const double slip_speed = drift + c.w_i * c.arm_i + c.w_other * c.arm_other;
@@ -94,7 +95,7 @@ template <bool History, class M>
       contact::TangentialResult t;
       if (list.mode) {
         const contact::CappedSpringResult e =
-            locked(list, 2 * p, law.k, law.c, law.mu * (fn > 0 ? fn : 0.0), trial, slip_speed, rates);
+            locked(list, 2 * p, law.k, law.c, law.mu * load, trial, slip_speed, rates);
         t = {e.force, e.spring, e.slipping};
       } else {
         t = contact::tangential_force(law, trial, slip_speed, fn);
@@ -108,7 +109,7 @@ template <bool History, class M>
     }
     if (lf.rolling) {
       const double relative_spin = c.w_i - c.w_other;
-      const contact::RollingLaw law = rolling_law(lf, nl, c.overlap, pair_masses(c.i, c.j), fn);
+      const contact::RollingLaw law = rolling_law(lf, nl, c.overlap, pair_masses(c.i, c.j), load);
       const double trial = known ? list.roll[p] + (c.spun_i - c.spun_other) : 0.0;
       contact::RollingResult r;
       if (list.mode) {

@@ -361,7 +361,7 @@ class DemSystem final : public OdeSystem {
   contact::TangentialLaw tangential_law(const ContactCoefficients& lf, const contact::NormalLaw& nl,
                                         double overlap) const;
   contact::RollingLaw rolling_law(const ContactCoefficients& lf, const contact::NormalLaw& nl, double overlap,
-                                  const PairMasses& pm, double normal) const;
+                                  const PairMasses& pm, double load) const;
   static void forget(const ContactArrays& list, int p);  // not touching: no history
   static contact::CappedSpringResult locked(const ContactArrays& list, int e, double k, double c, double limit,
                                             double spring, double rate, const contact::CapRates& rates);
