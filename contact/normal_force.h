@@ -51,10 +51,9 @@ NormalLaw with_model_of(NormalLaw law) {
 // for the stages that overshoot it), and cuts only a dashpot's pull, as it does while the bodies
 // overlap (there the force is 0 already as the release nears).
 inline double normal_force(const NormalLaw& law, double overlap, double approach_speed) {
-  return with_normal_model(law.model, [&](auto m) {
-    const double f = m.force(law.k, law.c, overlap, approach_speed);
-    return (!law.tension && f < 0 && (overlap > 0 || f != m.spring(law.k, overlap))) ? 0.0 : f;
-  });
+  const double f =
+      with_normal_model(law.model, [&](auto m) { return m.force(law.k, law.c, overlap, approach_speed); });
+  return (!law.tension && f < 0 && (overlap > 0 || law.c != 0)) ? 0.0 : f;
 }
 
 // The normal load that carries the Coulomb and rolling caps (N), from the normal force and its

@@ -73,10 +73,10 @@ template <bool History, class M>
   if (history && (lf.tangential || lf.rolling)) {
     const contact::ContactFrame& from = list.frame[p];
     const bool known = from.known();  // a contact that began in this step starts unstretched
-    const double load = contact::cap_load(fn, f.dashpot, c.overlap);
     // With stick and slip located: how fast the caps and the stiffnesses move.
     contact::CapRates rates;
     if (list.mode) {
+      const double load = contact::cap_load(fn, f.dashpot, c.overlap);
       const double slope = contact::stiffness_slope(nl, c.overlap);
       if (slope > 0) rates.growth = contact::stiffness_slope_rate(nl, c.overlap, vn) / slope;
       if (load != 0) rates.normal = slope * vn / load;
@@ -95,7 +95,7 @@ template <bool History, class M>
       contact::TangentialResult t;
       if (list.mode) {
         const contact::CappedSpringResult e =
-            locked(list, 2 * p, law.k, law.c, law.mu * load, trial, slip_speed, rates);
+            locked(list, 2 * p, law.k, law.c, law.mu * contact::cap_load(fn, f.dashpot, c.overlap), trial, slip_speed, rates);
         t = {e.force, e.spring, e.slipping};
       } else {
         t = contact::tangential_force(law, trial, slip_speed, fn);
@@ -109,7 +109,8 @@ template <bool History, class M>
     }
     if (lf.rolling) {
       const double relative_spin = c.w_i - c.w_other;
-      const contact::RollingLaw law = rolling_law(lf, nl, c.overlap, pair_masses(c.i, c.j), load);
+      const contact::RollingLaw law = rolling_law(lf, nl, c.overlap, pair_masses(c.i, c.j),
+                                                     list.mode ? contact::cap_load(fn, f.dashpot, c.overlap) : std::fmax(fn, 0.0));
       const double trial = known ? list.roll[p] + (c.spun_i - c.spun_other) : 0.0;
       contact::RollingResult r;
       if (list.mode) {
