@@ -45,27 +45,34 @@ NormalLaw with_model_of(NormalLaw law) {
   if constexpr (!std::is_void_v<M>) law.model = M::model;
   return law;
 }
-// Normal force magnitude on the pair (positive pushes the bodies apart). `overlap` > 0, or past
-// separation for a contact held acting to the end of its step by contact events: there a law
-// without tension still lets the bare spring pull (its continuation, smooth through the release
-// for the stages that overshoot it), and cuts only a dashpot's pull, as it does while the bodies
-// overlap (there the force is 0 already as the release nears).
+// Normal force magnitude on the pair (positive pushes the bodies apart). `overlap` > 0.
 inline double normal_force(const NormalLaw& law, double overlap, double approach_speed) {
   const double f =
       with_normal_model(law.model, [&](auto m) { return m.force(law.k, law.c, overlap, approach_speed); });
-  return (!law.tension && f < 0 && (overlap > 0 || law.c != 0)) ? 0.0 : f;
+  return (!law.tension && f < 0) ? 0.0 : f;
 }
 
-// The normal load that carries the Coulomb and rolling caps (N), from the normal force and its
-// dashpot part (dashpot_force): the compressive force, never a pull. Past separation, where only
-// a contact held acting to the end of its step by contact events is evaluated, the bare spring's
-// continuation (negative), so that the caps close through the release as smoothly as the force
-// does. Cut at zero there, the cap has a kink at the release, which the stages of a step that ends
-// at the located release straddle (their states miss the release by their stage errors): Sayfy-
-// Aburub on the squeezed disc measured 2.9 to 3.7 instead of 4, at step sizes where a release
-// fell so. With a dashpot's part the force is not the spring's there, and the cap stays cut.
-inline double cap_load(double force, double dashpot, double overlap) {
-  return overlap > 0 || dashpot != 0 ? std::fmax(force, 0.0) : force;
+// The same law for a contact whose state is located by contact events (ContactList::active):
+// `pulling` is locked for the step, true once the law's force k delta^p + c delta^q v turned
+// negative while the bodies overlapped (an event), so that no step straddles the cut at zero of a
+// law without tension. Pressing, the law itself, also where the stages overshoot the pull's start
+// or the release (a spring continued past separation: smooth through it); pulling, the law's pull
+// with tension, else 0.
+inline double located_normal_force(const NormalLaw& law, double overlap, double approach_speed, bool pulling) {
+  const double f =
+      with_normal_model(law.model, [&](auto m) { return m.force(law.k, law.c, overlap, approach_speed); });
+  return pulling && !law.tension ? 0.0 : f;
+}
+
+// The normal load that carries the Coulomb and rolling caps (N): the compressive force, never a
+// pull. A located contact (located_normal_force) carries its law's force while pressing, also
+// where stages overshoot the pull's start or the release (negative there: the caps close through
+// it as smoothly as the force does), and nothing while pulling. Cut at zero inside a step, the
+// cap had a kink there, which the stages of a step that ends at a located release straddle (their
+// states miss it by their stage errors): Sayfy-Aburub on the squeezed disc measured 2.9 to 3.7
+// instead of 4, at step sizes where a release fell so.
+inline double cap_load(double force, bool located, bool pulling) {
+  return located ? (pulling ? 0.0 : force) : std::fmax(force, 0.0);
 }
 
 // What the normal force `force` carries beyond the conservative spring: the dashpot's part (N).

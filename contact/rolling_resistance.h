@@ -39,7 +39,8 @@ struct RollingLaw {
 // k_r and c_r of a contact. `k_normal`: the linear(ised) normal stiffness (N/m); `r_eff`: R*;
 // `inertia_r`: I_r (kg m^2); `spin_inertia`: the inertia of the bodies' relative rotation,
 // 1/(1/I_i + 1/I_j) (a wall: I_i); `m_eff`: the effective mass (kg); `eta`: the epsd damping ratio;
-// `load`: the normal load carrying the cap (N), cap_load's (>= 0 while the bodies overlap).
+// `load`: the normal load carrying the cap (N), cap_load's (negative only in the stages of a
+// located contact that overshoot its pull's start or its release).
 inline RollingLaw rolling_law(RollingModel model, double mu_r, double k_normal, double r_eff, double inertia_r,
                               double spin_inertia, double m_eff, double eta, double load) {
   RollingLaw law;

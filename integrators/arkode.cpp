@@ -282,6 +282,14 @@ void ArkodeIntegrator::step() {
     // A fixed step's state is grid_steps_ steps of exactly dt from the grid's start: that is its
     // time, not ARKODE's sum of the steps (which drifts, and used to put a frame one step late).
     if (control_.rtol == 0) t_ = landing_ ? stop_ : grid_start_ + static_cast<double>(grid_steps_) * dt_;
+    // A step shortened onto a stop time off the grid starts a new grid there, as an event does:
+    // a run resumed from that stop takes whole steps of dt from its state's own time (on the old
+    // grid its first step was stamped past the stop by the shortfall, 5.8e-7 s after a located
+    // release put the grid off 2e-5 s, with positions 4.9e-8 m off their clock).
+    if (control_.rtol == 0 && landing_) {
+      grid_start_ = stop_;
+      grid_steps_ = 0;
+    }
   }
   if (system_->has_history()) {
     // The contact history of the accepted step comes from an evaluation at its end (the stages

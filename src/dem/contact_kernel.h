@@ -66,7 +66,19 @@ template <bool History, class M>
   const double drift = -c.rv.x * ny + c.rv.y * nx;  // the relative velocity along t
   const ContactCoefficients& lf = laws_[list.law[p]];
   const contact::NormalLaw nl = contact::with_model_of<M>(lf.normal_law_of(list.k[p], list.c[p]));
-  const double fn = contact::normal_force(nl, c.overlap, vn);
+  // Located by contact events: the acting state, pressing or pulling, is locked for the step.
+  const bool located = list.active != nullptr;
+  const bool pulling = located && list.active[p] == 3;
+  const double fn = located ? contact::located_normal_force(nl, c.overlap, vn, pulling)
+                            : contact::normal_force(nl, c.overlap, vn);
+  if (list.load_margin) {
+    // The pull's start as an event: the law's force while pressing, its negation while pulling.
+    // Without a dashpot the force reaches 0 only at separation, an event of its own; with
+    // tension and no cap to carry, the pull changes nothing.
+    const bool cut = nl.c > 0 && (!nl.tension || list.mode);
+    const double law_force = pulling ? contact::located_normal_force(nl, c.overlap, vn, false) : fn;
+    list.load_margin[p] = cut ? (pulling ? -law_force : law_force) : 1.0;
+  }
   f.damping_power = contact::normal_dissipation(nl, c.overlap, vn, fn);
   f.dashpot = contact::dashpot_force(nl, c.overlap, fn);  // damping_power = dashpot vn
   const bool history = History && list.history;
@@ -76,7 +88,7 @@ template <bool History, class M>
     // With stick and slip located: how fast the caps and the stiffnesses move.
     contact::CapRates rates;
     if (list.mode) {
-      const double load = contact::cap_load(fn, f.dashpot, c.overlap);
+      const double load = contact::cap_load(fn, true, pulling);
       const double slope = contact::stiffness_slope(nl, c.overlap);
       if (slope > 0) rates.growth = contact::stiffness_slope_rate(nl, c.overlap, vn) / slope;
       if (load != 0) rates.normal = slope * vn / load;
@@ -95,7 +107,7 @@ template <bool History, class M>
       contact::TangentialResult t;
       if (list.mode) {
         const contact::CappedSpringResult e =
-            locked(list, 2 * p, law.k, law.c, law.mu * contact::cap_load(fn, f.dashpot, c.overlap), trial, slip_speed, rates);
+            locked(list, 2 * p, law.k, law.c, law.mu * contact::cap_load(fn, true, pulling), trial, slip_speed, rates);
         t = {e.force, e.spring, e.slipping};
       } else {
         t = contact::tangential_force(law, trial, slip_speed, fn);
@@ -110,7 +122,7 @@ template <bool History, class M>
     if (lf.rolling) {
       const double relative_spin = c.w_i - c.w_other;
       const contact::RollingLaw law = rolling_law(lf, nl, c.overlap, pair_masses(c.i, c.j),
-                                                     list.mode ? contact::cap_load(fn, f.dashpot, c.overlap) : std::fmax(fn, 0.0));
+                                                     contact::cap_load(fn, located, pulling));
       const double trial = known ? list.roll[p] + (c.spun_i - c.spun_other) : 0.0;
       contact::RollingResult r;
       if (list.mode) {

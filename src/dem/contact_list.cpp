@@ -1,5 +1,7 @@
 #include "src/dem/contact_list.h"
 
+#include "src/base/error.h"
+
 #include <algorithm>
 
 namespace kiln {
@@ -63,6 +65,7 @@ void ContactList::replace(const std::vector<CandidatePair>& fresh, int particles
   mode.swap(kept_mode);
   margin.assign(mode.size(), 0.0);
   pull.assign(mode.size(), 0.0);
+  load_margin.assign(load_events ? n : 0, 1.0);
   i.resize(n);
   j.resize(n);
   for (size_t p = 0; p < n; ++p) {
@@ -137,6 +140,11 @@ void ContactList::state(SnapshotFields& f) {
   f.field("j", j);
   f.field("law", law);
   f.field("active", active);
+  if (!f.saving()) {
+    for (uint8_t a : active)
+      if (a > 3) throw InputError("the checkpoint's contact list has an acting state that is none of 0 to 3");
+    load_margin.assign(load_events ? active.size() : 0, 1.0);
+  }
   f.field("k", k);
   f.field("c", c);
   if (!history) return;

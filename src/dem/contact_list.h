@@ -49,6 +49,11 @@ struct ContactArrays {
   // evaluation leaves its event function and trial force; null otherwise.
   const int8_t* mode;
   double *margin, *pull;
+  // Contact events (ContactList::events): each candidate's `active` (3: pulling, below), and
+  // with load events where the evaluation leaves each acting contact's load event function;
+  // null otherwise.
+  const uint8_t* active;
+  double* load_margin;
 };
 
 struct ContactList {
@@ -58,7 +63,14 @@ struct ContactList {
   std::vector<int> si, sj;
   std::vector<double> k, c;     // normal law coefficients for this pair (k_t, c_t are fixed ratios)
   std::vector<uint16_t> law;    // material-pair index (friction, rolling, law flags)
-  std::vector<uint8_t> active;  // contact events: acting within the current step (2: not yet known)
+  // Contact events: acting within the current step (1 pressing, 3 pulling, 2 not yet known, 0
+  // not acting). A contact whose law's force (spring and dashpot) turns negative while the bodies
+  // still overlap pulls: without tension its force is cut to 0 there, and a cap carries no load.
+  // The cut is a kink, located as an event where `load_events` is set (a dashpot somewhere, and
+  // no tension or friction located): `load_margin` is each acting contact's event function.
+  bool events = false, load_events = false;
+  std::vector<uint8_t> active;
+  std::vector<double> load_margin;
   // History, kept only when `history` is set (friction or rolling resistance somewhere): the
   // committed springs and frame of the last accepted step, and the trial ones of the latest
   // evaluation, which become committed when its step is accepted.
@@ -102,7 +114,8 @@ struct ContactList {
     return {i.data(),      j.data(),      si.data(),     sj.data(),     k.data(),          c.data(),
             law.data(),    history,       rolling,       spring.data(), roll.data(),       frame.data(),
             trial.data(),  trial_roll.data(), trial_frame.data(), stage_path, path.data(), path_rate,
-            located ? mode.data() : nullptr, margin.data(), pull.data()};
+            located ? mode.data() : nullptr, margin.data(), pull.data(),
+            events ? active.data() : nullptr, load_events ? load_margin.data() : nullptr};
   }
   // Takes the candidates of `particles` particles as the broadphase found them among the places
   // in slot order: pairs of slots (a < b), or (slot, segment), sorted. `at[s]` is the particle at

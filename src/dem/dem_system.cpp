@@ -57,12 +57,14 @@ DemSystem::DemSystem(const Scene& scene)
     used[scene.material[i]] = true;
     rotates_ = rotates_ || scene.angular_velocity[i] != 0;
   }
-  bool history = false, rolling = false, first = true;
+  bool history = false, rolling = false, first = true, damped = false, without_tension = false;
   for (int a = 0; a < nm; ++a)
     for (int b = 0; b < nm && used[a]; ++b) {
       const ContactCoefficients& law = laws_[a * nm + b];
       history = history || law.tangential || law.rolling;
       rolling = rolling || law.rolling;
+      damped = damped || law.beta > 0 || law.law.damping_rate > 0;
+      without_tension = without_tension || !law.law.tension;
       mixed_models_ = mixed_models_ || (!first && law.law.model != pair_model_);
       pair_model_ = law.law.model;
       first = false;
@@ -73,6 +75,10 @@ DemSystem::DemSystem(const Scene& scene)
   thermal_ = scene.thermal;
   events_ = scene.control.contact_events;
   pp_.located = pw_.located = events_ && history;  // stick and slip located with onsets and releases
+  pp_.events = pw_.events = events_;
+  // A dashpot's pull is cut where a law has no tension, and carries no cap where friction is
+  // located: its start is then an event too (ContactList::active).
+  pp_.load_events = pw_.load_events = events_ && damped && (without_tension || history);
   layout_.nq = (rotates_ ? 3 : 2) * n_;
   layout_.nz = ledger_count() + (thermal_ ? n_ : 0);
   heat_power_factor_friction_ = scene.heat_from_dissipation != HeatFromDissipation::none;

@@ -121,9 +121,10 @@ class DemSystem final : public OdeSystem {
   void initial_history(double* s) const override;
   // Contact events (contact_events.cpp): per candidate contact its overlap, positive while the
   // contact is as locked (touching or apart); with friction or rolling resistance, then two per
-  // candidate, its tangential and rolling springs' stick or slip (contact/stick_slip.h).
+  // candidate, its tangential and rolling springs' stick or slip (contact/stick_slip.h); with
+  // load events, then one per candidate, its pressing or pulling (ContactList::active).
   int event_count() const override {
-    return events_ ? (pp_.size() + pw_.size()) * (pp_.located ? 3 : 1) : 0;
+    return events_ ? (pp_.size() + pw_.size()) * (1 + (pp_.located ? 2 : 0) + (pp_.load_events ? 1 : 0)) : 0;
   }
   void event_functions(double t, const double* y, double* g) override;
   void lock_contacts(double t, const double* y, const int* flips) override;
