@@ -78,7 +78,8 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
     reference = {mean};
     reference_se = se;
   } else {
-    reference = study_reference(base, o.scene, o.sets, o.quantity, t_end, o.reference, base.dt, o.fine_rtol, o.heat_stage);
+    reference = study_reference(base, o.scene, o.sets, o.quantity, t_end, o.reference, base.dt, o.fine_rtol, o.heat_stage)
+                    .value;
   }
   run_study(o.scene, o.sets, t_end, o.quantity, runs, o.threads, o.quiet, o.heat_stage);
 

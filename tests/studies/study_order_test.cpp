@@ -297,3 +297,61 @@ TEST_CASE("a study writes its JSON, CSV and plot into a directory whose path has
   for (const char* file : {"order.json", "order.csv", "order.png"}) CHECK(std::filesystem::exists(dir / file));
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("a fine reference's accuracy is measured: an error far above it is not called its floor", "[study]") {
+  // Sayfy-Aburub on the squeezed disc with events, from 4e-6 s: per halving 3.69 and 3.87 at the
+  // finest levels, error 3.6e-9. The floor was assumed at 1000 x --fine-rtol (1e-8 here), so the
+  // study said "reached the floor ... a larger --dt would settle it", a coarser ladder that only
+  // lowers the halvings; the same ladder with --fine-rtol 1e-13 had identical errors. The
+  // reference's own difference from a run at a tenth of its tolerance is far below that.
+  OrderOptions o;
+  o.scene = testing::case_path("pair_squeezed_disc.yaml");
+  o.integrators = {"erk:SAYFY_ABURUB_6_3_4"};
+  o.sets = {"contact_events=true"};
+  o.reference = "fine";
+  o.quantity = "velocity";
+  o.dt = 4e-6;
+  o.levels = 5;
+  o.quiet = true;
+  const auto study = run_order_study(o);
+  INFO(study.dump());
+  const double accuracy = study["reference_accuracy"].get<double>();
+  CHECK(accuracy > 0);
+  CHECK(accuracy < 1e-10);
+  const auto& entry = study["integrators"][0];
+  CHECK(entry["error"].back().get<double>() > 1e3 * accuracy);
+  CHECK(entry["verdict"].get<std::string>().find("floor") == std::string::npos);
+}
+
+TEST_CASE("one halving is no verdict: two levels are not settled, whatever their order", "[study]") {
+  // Two levels of erk2 on the sliding pair gave "matches" from one halving whose next was 3.23,
+  // on a ladder that never settled; here erk4 on the harmonic contact, whose single halving is
+  // 3.85, close to nominal and still no evidence.
+  const auto study = run_order_study(harmonic("erk4", 5e-5, 2));
+  const auto& entry = study["integrators"][0];
+  INFO(entry.dump());
+  CHECK(entry["settled"] == false);
+  CHECK(entry["verdict"].get<std::string>().rfind("not settled (one halving", 0) == 0);
+}
+
+TEST_CASE("a coarse level beyond the stability limit is left out and named; the ladder is read from the rest",
+          "[study]") {
+  // erk4 on the sticking pair from 4e-5 s: that level blows up (the contact lasts about 4e-5 s),
+  // and used to fail the whole ladder.
+  OrderOptions o;
+  o.scene = testing::case_path("pair_stick.yaml");
+  o.integrators = {"erk4"};
+  o.sets = {"contact_events=true"};
+  o.reference = "fine";
+  o.quantity = "velocity";
+  o.dt = 4e-5;
+  o.levels = 4;
+  o.quiet = true;
+  const auto entry = run_order_study(o)["integrators"][0];
+  INFO(entry.dump());
+  CHECK(!entry.contains("failure"));
+  REQUIRE(entry.contains("left_out_unstable"));
+  CHECK(entry["left_out_unstable"]["dt"][0].get<double>() == Approx(4e-5));
+  CHECK(entry["left_out_unstable"]["failure"].get<std::string>().find("unstable") != std::string::npos);
+  CHECK(entry["error"].size() == 3u);
+}
