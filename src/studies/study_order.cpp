@@ -69,7 +69,10 @@ nlohmann::json run_order_study(const OrderOptions& o_in) {
     for (int k = skip; k < o.levels; ++k)
       if (!row[k].failure.empty()) failure = row[k].failure;
     const int levels = o.levels - skip;
-    if (failure.empty() && levels < (o.reference == "richardson" ? 3 : 2)) failure = row[skip - 1].failure;
+    if (failure.empty() && levels < (o.reference == "richardson" ? 3 : 2))
+      failure = format("only %d level%s stable, too few for an order; dt = %g failed: ", levels,
+                       levels == 1 ? " is" : "s are", row[skip - 1].dt) +
+                row[skip - 1].failure;
     if (!failure.empty()) {
       entry["failure"] = failure;
       out["integrators"].push_back(entry);
@@ -77,8 +80,12 @@ nlohmann::json run_order_study(const OrderOptions& o_in) {
       continue;
     }
     std::vector<double> unstable;
-    for (int k = 0; k < skip; ++k) unstable.push_back(row[k].dt);
-    if (skip > 0) entry["left_out_unstable"] = {{"dt", unstable}, {"failure", row[skip - 1].failure}};
+    std::vector<std::string> reasons;
+    for (int k = 0; k < skip; ++k) {
+      unstable.push_back(row[k].dt);
+      reasons.push_back(row[k].failure);
+    }
+    if (skip > 0) entry["left_out_unstable"] = {{"dt", unstable}, {"failure", reasons}};
     row += skip;
     std::vector<double> dts, errors;
     for (int k = 0; k < levels; ++k) dts.push_back(row[k].dt);
@@ -148,24 +155,27 @@ nlohmann::json run_order_study(const OrderOptions& o_in) {
     if (undefined)
       cure = "an error of zero gives no order: compare another quantity, or a coarser --dt";
     else if (at_floor)
-      cure = format("the error has reached the floor at %.3g (%s); a larger --dt would settle it", errors[count - 1],
+      cure = format("the error, %.3g, has reached the floor (%s); a larger --dt would settle it", errors[count - 1],
                     reference_floor > roundoff_floor
                         ? format("the fine reference is good to %.2g: a smaller --fine-rtol lowers it", ref.accuracy).c_str()
-                        : "round-off");
+                        : format("round-off, about %.2g here", std::max(roundoff_floor, 1e-12)).c_str());
     else if (scattered)
-      cure = format("the error stops falling (finest %.3g), far above the reference's accuracy: the errors scatter, "
-                    "as a kink inside the steps makes them (an unlocated contact onset, release or stick-slip switch: "
-                    "contact events locate them)",
-                    errors[count - 1]);
+      cure = format("the error stops falling (finest %.3g), far above the floor: the errors scatter, as a kink "
+                    "inside the steps makes them (%s), or a level near the stability limit",
+                    errors[count - 1],
+                    base.control.contact_events ? "one that no contact event locates"
+                                                : "an unlocated contact onset, release or stick-slip switch: contact "
+                                                  "events locate them");
     const std::string unsettled =
         undefined     ? "not settled (" + cure + ")"
         : one_halving ? format("not settled (one halving, %.2f, cannot show that the ladder has settled: --levels %d "
                                "or more)",
-                               lowest, o.reference == "richardson" ? 4 : 3)
+                               lowest, std::max(o.reference == "richardson" ? 4 : 3, o.levels + 1))
                       : format("not settled (the halvings over the fitted levels give orders %.2f to %.2f: %s)", lowest,
                                highest, cure.c_str());
     // A ladder at the floor or scattered is judged by neither its fit nor a chance halving.
     const std::string verdict = settled && within(slope)              ? "matches"
+                                : one_halving                         ? unsettled
                                 : at_floor && (!settled || slope < nominal) ? unsettled
                                 : !(slope > 0.5)                      ? (scattered ? "not converging (" + cure + ")"
                                                                                    : std::string("not converging"))
