@@ -30,6 +30,20 @@ OrderOptions harmonic(const std::string& integrator, double dt, int levels) {
 
 double fitted(const nlohmann::json& study) { return study["integrators"][0]["fitted_order"].get<double>(); }
 
+// A pair case with contact events against the fine reference, velocity at the end.
+OrderOptions pair_case(const std::string& scene, const std::string& integrator, double dt, int levels) {
+  OrderOptions o;
+  o.scene = testing::case_path(scene);
+  o.integrators = {integrator};
+  o.sets = {"contact_events=true"};
+  o.reference = "fine";
+  o.quantity = "velocity";
+  o.dt = dt;
+  o.levels = levels;
+  o.quiet = true;
+  return o;
+}
+
 }  // namespace
 
 TEST_CASE("kiln order recovers velocity Verlet 2, Heun 2, Zonneveld 4 and Dormand-Prince 5 on the harmonic contact",
@@ -221,15 +235,7 @@ TEST_CASE("friction between discs keeps erk4's order with springs in the state a
   // 1.00, 1.34, 2.17, 6.98 from dt 3e-6 s and the error stopped near 5.9e-9 (issue 25). With the
   // slip paths in the state and stick and slip locked per step they are 4.95 to 5.04 (erk4 meets
   // the harmonic contact at order 5, as on the frictionless pair) down to 7e-13.
-  OrderOptions o;
-  o.scene = testing::case_path("pair_stick.yaml");
-  o.integrators = {"erk4"};
-  o.sets = {"contact_events=true"};
-  o.reference = "fine";
-  o.quantity = "velocity";
-  o.dt = 3e-6;
-  o.levels = 6;
-  o.quiet = true;
+  OrderOptions o = pair_case("pair_stick.yaml", "erk4", 3e-6, 6);
   const auto study = run_order_study(o);
   const auto& entry = study["integrators"][0];
   INFO(entry.dump());
@@ -304,15 +310,7 @@ TEST_CASE("a fine reference's accuracy is measured: an error far above it is not
   // study said "reached the floor ... a larger --dt would settle it", a coarser ladder that only
   // lowers the halvings; the same ladder with --fine-rtol 1e-13 had identical errors. The
   // reference's own difference from a run at a tenth of its tolerance is far below that.
-  OrderOptions o;
-  o.scene = testing::case_path("pair_squeezed_disc.yaml");
-  o.integrators = {"erk:SAYFY_ABURUB_6_3_4"};
-  o.sets = {"contact_events=true"};
-  o.reference = "fine";
-  o.quantity = "velocity";
-  o.dt = 4e-6;
-  o.levels = 5;
-  o.quiet = true;
+  const OrderOptions o = pair_case("pair_squeezed_disc.yaml", "erk:SAYFY_ABURUB_6_3_4", 4e-6, 5);
   const auto study = run_order_study(o);
   INFO(study.dump());
   const double accuracy = study["reference_accuracy"].get<double>();
@@ -338,15 +336,7 @@ TEST_CASE("a coarse level beyond the stability limit is left out and named; the 
           "[study]") {
   // erk4 on the sticking pair from 4e-5 s: that level blows up (the contact lasts about 4e-5 s),
   // and used to fail the whole ladder.
-  OrderOptions o;
-  o.scene = testing::case_path("pair_stick.yaml");
-  o.integrators = {"erk4"};
-  o.sets = {"contact_events=true"};
-  o.reference = "fine";
-  o.quantity = "velocity";
-  o.dt = 4e-5;
-  o.levels = 4;
-  o.quiet = true;
+  const OrderOptions o = pair_case("pair_stick.yaml", "erk4", 4e-5, 4);
   const auto entry = run_order_study(o)["integrators"][0];
   INFO(entry.dump());
   CHECK(!entry.contains("failure"));
