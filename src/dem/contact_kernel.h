@@ -76,7 +76,7 @@ template <bool History, class M>
     // Without a dashpot the force reaches 0 only at separation, an event of its own; with
     // tension and no cap to carry, the pull changes nothing.
     const bool cut = nl.c > 0 && (!nl.tension || list.mode);
-    const double law_force = pulling ? contact::located_normal_force(nl, c.overlap, vn, false) : fn;
+    const double law_force = pulling && !nl.tension ? contact::located_normal_force(nl, c.overlap, vn, false) : fn;
     list.load_margin[p] = cut ? (pulling ? -law_force : law_force) : 1.0;
   }
   f.damping_power = contact::normal_dissipation(nl, c.overlap, vn, fn);
@@ -87,8 +87,9 @@ template <bool History, class M>
     const bool known = from.known();  // a contact that began in this step starts unstretched
     // With stick and slip located: how fast the caps and the stiffnesses move.
     contact::CapRates rates;
+    double load = 0;  // the caps' load where the modes are locked
     if (list.mode) {
-      const double load = contact::cap_load(fn, true, pulling);
+      load = contact::cap_load(fn, true, pulling);
       const double slope = contact::stiffness_slope(nl, c.overlap);
       if (slope > 0) rates.growth = contact::stiffness_slope_rate(nl, c.overlap, vn) / slope;
       if (load != 0) rates.normal = slope * vn / load;
@@ -107,7 +108,7 @@ template <bool History, class M>
       contact::TangentialResult t;
       if (list.mode) {
         const contact::CappedSpringResult e =
-            locked(list, 2 * p, law.k, law.c, law.mu * contact::cap_load(fn, true, pulling), trial, slip_speed, rates);
+            locked(list, 2 * p, law.k, law.c, law.mu * load, trial, slip_speed, rates);
         t = {e.force, e.spring, e.slipping};
       } else {
         t = contact::tangential_force(law, trial, slip_speed, fn);
@@ -122,7 +123,7 @@ template <bool History, class M>
     if (lf.rolling) {
       const double relative_spin = c.w_i - c.w_other;
       const contact::RollingLaw law = rolling_law(lf, nl, c.overlap, pair_masses(c.i, c.j),
-                                                     contact::cap_load(fn, located, pulling));
+                                                     list.mode ? load : contact::cap_load(fn, false, false));
       const double trial = known ? list.roll[p] + (c.spun_i - c.spun_other) : 0.0;
       contact::RollingResult r;
       if (list.mode) {

@@ -26,7 +26,7 @@ std::vector<ContactSprings> DemSystem::contact_springs(double t, const double* y
       }
     }
     if (lf.rolling) {
-      const contact::RollingLaw law = rolling_law(lf, nl, overlap, pm, std::max(fn, 0.0));
+      const contact::RollingLaw law = rolling_law(lf, nl, overlap, pm, contact::cap_load(fn, false, false));
       if (!(known && law.k * std::abs(list.roll[p]) >= law.limit)) {
         s.kr = law.k;
         s.cr = law.c;

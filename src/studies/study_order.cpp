@@ -205,7 +205,7 @@ nlohmann::json run_order_study(const OrderOptions& o_in) {
 
     report.table("%s (nominal order %d)\n", name.c_str(), nominal);
     for (int k = 0; k < skip; ++k)
-      report.table("  %12.4e   left out: %s\n", unstable[k], jobs[i * o.levels + k].failure.substr(0, 100).c_str());
+      report.table("  %12.4e   left out: %s\n", unstable[k], reasons[k].substr(0, 100).c_str());
     report.table("        dt           %s   order\n", o.reference == "richardson" ? "difference" : "error     ");
     for (int k = 0; k < count; ++k) {
       // An observed order as the CSV has always held it: six decimals (the table keeps five characters).
