@@ -92,4 +92,25 @@ std::string xdmf_document(const std::string& h5, const ResultLayout& layout, con
   return x.str();
 }
 
+std::string units_table(const ResultLayout& layout) {
+  std::ostringstream csv;
+  csv << "array,series,centre,unit,dataset\n";
+  auto row = [&](const char* array, const char* series, const char* centre, const char* unit, const char* dataset) {
+    csv << array << ',' << series << ',' << centre << ',' << unit << ',' << dataset << '\n';
+  };
+  row("Points", "particles", "point", frame_field(FrameField::position).units, "position");
+  row("radius", "particles", "point", "m", "radius");
+  for (const FrameFieldInfo& f : frame_fields)
+    if (f.of == FrameOf::particles && f.xdmf_attribute && in_result(f, layout)) row(f.name, "particles", "point", f.units, f.name);
+  row("id", "particles", "point", "1", "id");
+  if (layout.walls > 0) {
+    row("Points", "walls", "point", frame_field(FrameField::wall_segments).units, "wall_segments");
+    row("wall", "walls", "cell", "1", "wall_of_segment");
+    for (const FrameFieldInfo& f : frame_fields)
+      if (f.of == FrameOf::walls && f.xdmf_attribute && in_result(f, layout)) row(f.name, "walls", "field", f.units, f.name);
+  }
+  row("time", "both", "time step", frame_field(FrameField::time).units, "time");
+  return csv.str();
+}
+
 }  // namespace kiln

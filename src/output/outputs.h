@@ -58,6 +58,11 @@ inline std::vector<size_t> frame_dims(const FrameFieldInfo& f, const ResultLayou
 // whole (H5Frames::write_frame_views), never a HyperSlab.
 std::string xdmf_document(const std::string& h5_name, const ResultLayout& layout, const std::vector<double>& times);
 
+// units.csv: ParaView has no units of its own and XDMF attributes carry none, so each array that
+// result.xdmf shows gets a row (array, series, centre, unit, the result.h5 dataset it reads) that
+// ParaView's CSV reader opens beside the run. The units are result.h5's `units` attributes.
+std::string units_table(const ResultLayout& layout);
+
 // Where write_picture draws: the image's size and the pixel (from its top left corner) of a point.
 struct PictureView {
   double x0 = 0, y1 = 0, scale = 1;  // the left and top edges of the plot (m), pixels per metre

@@ -24,7 +24,7 @@ const std::vector<std::string>& RunOutputs::names() {
   static const std::vector<std::string> n = {"result.h5",    "result.h5.tmp",   "result.xdmf",    "result.xdmf.tmp",
                                              "summary.json", "summary.json.tmp", "picture.png",    "picture.png.tmp",
                                              "checkpoint.h5", "checkpoint.h5.tmp", "result.h5.killed",
-                                             "wall_loads.csv", "wall_loads.csv.tmp",
+                                             "wall_loads.csv", "wall_loads.csv.tmp", "units.csv", "units.csv.tmp",
                                              // drawn from a run's results (movie.h, scripts/plot_case.py)
                                              "movie",         "movie.tmp",         "movie.mp4",        "movie.mp4.tmp",
                                              "plots.png",     "plots.png.tmp"};
@@ -166,7 +166,7 @@ RunOutputs::~RunOutputs() {
 void RunOutputs::clean_up() {
   h5_->abandon();
   for (const char* name : {"result.h5.tmp", "result.xdmf.tmp", "summary.json.tmp", "picture.png.tmp",
-                           "checkpoint.h5.tmp", "wall_loads.csv.tmp"})
+                           "checkpoint.h5.tmp", "wall_loads.csv.tmp", "units.csv.tmp"})
     std::remove(path(name).c_str());
   if (!checkpointed_) return;
   if (!resumed_from_) {
@@ -407,9 +407,10 @@ void RunOutputs::finish(double t, const double* y, const nlohmann::json& summary
   write_picture(path("picture.png.tmp"), pic);
   write_file(path("result.xdmf.tmp"), xdmf_document("result.h5", layout_, times_));
   if (layout_.walls > 0) write_file(path("wall_loads.csv.tmp"), loads);
+  write_file(path("units.csv.tmp"), units_table(layout_));
   // A byte that is not UTF-8 (which the scene reader refuses) must not lose the run here.
   write_file(path("summary.json.tmp"), summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
-  for (const char* name : {"result.h5", "result.xdmf", "picture.png", "summary.json", "wall_loads.csv"})
+  for (const char* name : {"result.h5", "result.xdmf", "units.csv", "picture.png", "summary.json", "wall_loads.csv"})
     if (layout_.walls > 0 || std::string(name) != "wall_loads.csv") publish(path(std::string(name) + ".tmp"), path(name));
   std::remove(path("result.h5.killed").c_str());  // a resumed killed run's frames, now in result.h5
   done_ = true;

@@ -254,8 +254,8 @@ double SceneNode::in_range(double lo, double hi, bool lo_open, bool hi_open) con
   const double v = number();
   const bool ok = (lo_open ? v > lo : v >= lo) && (hi_open ? v < hi : v <= hi);
   if (!ok) {
-    fail("expected a value in " + std::string(lo_open ? "(" : "[") + YAML::Node(lo).Scalar() + ", " +
-         YAML::Node(hi).Scalar() + (hi_open ? ")" : "]") + ", got " + node_.Scalar());
+    fail("expected a value in " + std::string(lo_open ? "(" : "[") + message_number(lo) + ", " + message_number(hi) +
+         (hi_open ? ")" : "]") + ", got " + node_.Scalar());
   }
   return v;
 }

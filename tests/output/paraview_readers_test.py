@@ -10,7 +10,8 @@ last frame: the frame times; the particles' point count, points and every point 
 velocity, angle, angular_velocity, temperature, id); the walls' points (the rows of wall_segments),
 their polylines and wall index, and the frame's wall_force, wall_torque and wall_power as field
 data; wall_loads.csv read by ParaView's CSV reader (every frame, every wall's columns, named by
-wall and unit); that the two series keep their block (and, in the legacy reader, their name) at every
+wall and unit); units.csv read by it, a row for every array the reader shows, its unit result.h5's;
+that the two series keep their block (and, in the legacy reader, their name) at every
 frame. Equality is exact (numpy.array_equal on float64): the readers copy doubles.
 Any line a reader prints on stderr fails the test (ParaView's "ERR|", Xdmf3's "Skipping
 unrecognized array type", a crash's stack). Last, scripts/paraview_view.py draws N3 into
@@ -98,6 +99,21 @@ def check(run_dir, reader_name):
         assert np.array_equal(array(w, 'wall', 'cell'), h5['wall_of_segment'][:]), 'wall of segment'
         for name in ('wall_force', 'wall_torque', 'wall_power'):  # Xdmf3: one tuple of W components
             assert np.array_equal(array(w, name, 'field').ravel(), h5[name][k].ravel()), '%s, frame %d' % (name, k)
+    if reader_name == 'XDMFReader':  # units.csv, once per case: a unit for every array the reader shows
+        table = sm.Fetch(pv.CSVReader(FileName=[os.path.join(run_dir, 'units.csv')]))
+        col = lambda name: [table.GetColumnByName(name).GetValue(r) for r in range(table.GetNumberOfRows())]
+        units = {(s, a): (u, d) for s, a, u, d in zip(col('series'), col('array'), col('unit'), col('dataset'))}
+        shown = [('particles', 'Points')] + [('particles', p.GetPointData().GetArrayName(i))
+                                             for i in range(p.GetPointData().GetNumberOfArrays())]
+        if w is not None:
+            shown += [('walls', 'Points'), ('walls', 'wall')] + [('walls', w.GetFieldData().GetArrayName(i))
+                                                                 for i in range(w.GetFieldData().GetNumberOfArrays())]
+        for key in shown + [('both', 'time')]:
+            assert key in units, 'units.csv has no row for %s' % (key,)
+            unit, dataset = units[key]
+            want = h5[dataset].attrs['units']
+            assert str(unit) == (want.decode() if isinstance(want, bytes) else want), 'unit of %s' % (key,)
+        assert len(units) == len(shown) + 1, 'units.csv rows %s, arrays shown %s' % (sorted(units), shown)
     if walls and reader_name == 'XDMFReader':  # wall_loads.csv, once per case: ParaView's CSV reader
         table = sm.Fetch(pv.CSVReader(FileName=[os.path.join(run_dir, 'result.h5').replace('result.h5', 'wall_loads.csv')]))
         column = lambda name: vtk_to_numpy(table.GetColumnByName(name))

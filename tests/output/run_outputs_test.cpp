@@ -386,6 +386,23 @@ TEST_CASE("wall_segments follow a translating wall frame by frame, with the wall
     }
   }
   CHECK(rows == frames);
+  // units.csv gives each array that result.xdmf shows the unit of the dataset it reads.
+  std::ifstream units(dir / "units.csv");
+  REQUIRE(std::getline(units, header));
+  CHECK(header == "array,series,centre,unit,dataset");
+  std::vector<std::string> arrays;
+  for (std::string line; std::getline(units, line);) {
+    INFO(line);
+    const std::vector<std::string> cell = split(line, ',');
+    REQUIRE(cell.size() == 5);
+    CHECK(text_attribute(h5, cell[4].c_str(), "units") == cell[3]);
+    arrays.push_back(cell[1] + "/" + cell[0]);
+  }
+  for (const char* a : {"particles/Points", "particles/radius", "particles/velocity", "particles/angle",
+                        "particles/angular_velocity", "particles/id", "walls/Points", "walls/wall", "walls/wall_force",
+                        "walls/wall_torque", "walls/wall_power", "both/time"})
+    CHECK(std::count(arrays.begin(), arrays.end(), a) == 1);
+  CHECK(arrays.size() == 12);  // no temperature: not a thermal scene
   fs::remove_all(dir);
 }
 

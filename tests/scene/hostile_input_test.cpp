@@ -191,6 +191,26 @@ TEST_CASE("values outside their physical range are refused at their key", "[host
             "below absolute zero"));
 }
 
+TEST_CASE("a value outside a range with two ends is told both ends", "[hostile]") {
+  struct Case {
+    std::string from, to, ends;
+  } cases[] = {
+      {"density: 8900", "density: 2.0e12", "(0, "},
+      {"restitution: 0.8", "restitution: 1.5", "[0.01, 1]"},
+      {"restitution: 0.8", "restitution: 0.001", "[0.01, 1]"},
+      {"radius: 0.002", "radius: 2.0e6", "[1e-9, 1e6]"},
+      {"dt: 1.0e-6", "rtol: 1\ndt: 1.0e-6", "[1e-14, 1)"},
+      {"dt: 1.0e-6", "checks: {max_overlap_fraction: 1.5}\ndt: 1.0e-6", "(0, 1]"},
+      {"restitution: 0.8", "restitution: 0.8, poisson_ratio: 0.7", "(-1, 0.5]"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.to);
+    const std::string msg = error_of(replaced(scene, c.from, c.to));
+    CHECK(has(msg, c.ends));
+  }
+  CHECK(has(error_of(replaced(scene, "density: 8900", "density: 2.0e12")), "1e+12]"));
+}
+
 TEST_CASE("numbers that overflow once the scene is expanded are refused: random velocities, a wall's rpm",
           "[hostile]") {
   CHECK(has(error_of(scene, {"particles.0.random_velocity.max=1.7e308"}), "key 'particles.0'"));
