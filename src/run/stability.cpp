@@ -525,8 +525,11 @@ DtVerdict judge_dt(const StabilityEstimate& est, double dt, const Scene& scene) 
     v.warnings.push_back(why);
     return v;
   };
-  // Named at t_end, where the scene sets the run's length, like every refusal of a scene's value.
-  const std::string at = scene.t_end_at.file.empty() ? "" : describe(scene.t_end_at) + ": ";
+  // Named at t_end and dt, where the scene sets the run's length in steps, like every refusal of a
+  // scene's value (dt alone changed on the command line was blamed on t_end's line).
+  const std::string at = scene.t_end_at.file.empty() ? ""
+                         : scene.dt_at.file.empty()  ? describe(scene.t_end_at) + ": "
+                                                     : describe(scene.t_end_at) + " and " + describe(scene.dt_at) + ": ";
   if (scene.control.rtol == 0)
     if (auto why = too_many_steps("dt", dt, scene.t_end)) return refused(at + *why);
   if (scene.freeze.enabled && scene.control.rtol == 0)

@@ -104,6 +104,7 @@ void read_stepping(const SceneNode& root, Scene& scene) {
   scene.dt = root["dt"].positive();
   scene.t_end = root["t_end"].positive();
   scene.t_end_at = root["t_end"].location();
+  scene.dt_at = root["dt"].location();
   if (scene.dt > scene.t_end) root["dt"].fail("dt is longer than t_end");
   scene.output_interval = root.has("output_interval") ? root["output_interval"].positive() : scene.t_end / 100;
 }

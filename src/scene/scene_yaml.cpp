@@ -4,8 +4,11 @@
 #include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
+#include <cctype>
 #include <fstream>
 #include <sstream>
+#include <vector>
 
 #include "src/scene/overrides.h"
 #include "src/scene/scene_parts.h"
@@ -40,6 +43,7 @@ Scene read_scene(const SceneNode& root, const std::string& file, uint64_t memory
   MemoryClaim claim(memory);
   ParticleSets sets;
   std::vector<Attachment> attachments;
+  if (auto m = root.optional("ensemble_member")) scene.ensemble_member = m->integer(0, 1000000000);
   read_particles(root, scene, index, sets, claim, attachments);
   read_walls(root, scene, index, claim);
   attach_particles(attachments, scene);
@@ -51,6 +55,26 @@ Scene read_scene(const SceneNode& root, const std::string& file, uint64_t memory
   read_checks(root, scene);
   read_reports(root, scene);
   return scene;
+}
+
+// The top-level key whose value holds line `line` (0-based) of `text`, for nesting too deep, which
+// yaml-cpp refuses before there is a tree to name a key in:
+// the nearest line at or above it that starts with a key in the first column. "" if none.
+std::string top_level_key_at(const std::string& text, int line) {
+  std::vector<size_t> starts = {0};
+  for (size_t k = 0; k < text.size() && static_cast<int>(starts.size()) <= line; ++k)
+    if (text[k] == '\n') starts.push_back(k + 1);
+  for (int l = std::min<int>(line, static_cast<int>(starts.size()) - 1); l >= 0; --l) {
+    const size_t from = starts[l];
+    const size_t end = std::min(text.find('\n', from), text.size());
+    const std::string row = text.substr(from, std::min<size_t>(end - from, 200));
+    const bool top = !row.empty() && !std::isspace(static_cast<unsigned char>(row[0])) && row[0] != '#' && row[0] != '-';
+    const size_t colon = row.find(':');
+    if (top && colon != std::string::npos && colon > 0) return row.substr(0, colon);
+    if (top && l == line) return "";  // the line at fault is a top-level line, and holds no key
+
+  }
+  return "";
 }
 
 }  // namespace
@@ -69,9 +93,11 @@ Scene parse_scene(const std::string& text, const std::string& file, const std::v
   try {
     doc = YAML::Load(text);
   } catch (const YAML::DeepRecursion& e) {
-    throw InputError({file, e.mark.line + 1, ""},
+    throw InputError({file, e.mark.line + 1, top_level_key_at(text, e.mark.line)},
                      "lists or maps nested " + std::to_string(e.depth()) + " levels deep: not a scene");
   } catch (const YAML::ParserException& e) {
+    // No key: a parser's mark is where it noticed, often the line after the fault (an unclosed list
+    // is reported at the next key).
     throw InputError({file, e.mark.line + 1, ""}, "not valid YAML: " + e.msg);
   }
   if (!doc.IsMap()) throw InputError({file, 1, ""}, "a scene is a map of keys (name, materials, particles, ...)");

@@ -185,7 +185,13 @@ def main(kiln, repo, work):
                                            result[3:] if result.startswith('ok') else '-',
                                            'ok' if rc == 0 and not err else 'FAIL'))
     png = os.path.join(work, 'paraview_n3.png')
-    rc, stdout, err = run([PVPYTHON, __file__, '--view', repo, os.path.join(work, 'n3_shear_cell'), png])
+    view = [PVPYTHON, __file__, '--view', repo, os.path.join(work, 'n3_shear_cell'), png]
+    rc, stdout, err = run(view)
+    if rc != 0 and 'bad X server connection' in err:
+        # Xvfb, not ParaView or kiln: about 1 in 20 connections of a render window to a just-started
+        # Xvfb abort so (seen with xvfb-run -a alone); one retry, said in the output.
+        print('scripts/paraview_view.py: the X server refused the render window; retried once')
+        rc, stdout, err = run(view)
     if rc != 0 or err:
         failures.append('scripts/paraview_view.py: exit %d, %s\n  stderr: %s' % (rc, stdout, err[:2000]))
     print('scripts/paraview_view.py on N3: %s (%s)' % ('ok' if rc == 0 and not err else 'FAIL', png))
