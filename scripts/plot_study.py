@@ -14,6 +14,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 
 def plot_order(study, ax):
+    if "ensemble" in study:
+        return plot_order_ensemble(study, ax)
     for entry in study["integrators"]:
         points = [(d, e) for d, e in zip(entry.get("dt", []), entry.get("error", [])) if e and e > 0]
         if not points:
@@ -27,6 +29,36 @@ def plot_order(study, ax):
                   + f" of {study['quantity']} (max abs)")
     ax.set_title(f"{study['scene']}: {study['quantity']} at t = {study['t_end']:g} s, reference {study['reference']}"
                  "\n(dashed: nominal slopes)", fontsize=10)
+
+
+def plot_order_ensemble(study, ax):
+    # |bias| of each level's ensemble mean with its interval where detected; an open v at the
+    # interval's far end (an upper bound) where not.
+    for entry in study["integrators"]:
+        if "statistics" not in entry:
+            continue
+        fitted = entry.get("fitted_order")
+        label = entry["name"] + (f" (fitted {fitted:.2f})" if fitted is not None else " (not resolved)")
+        color = None
+        for dt, st in zip(entry["dt"], entry["statistics"]):
+            lo, hi = st["bias"]["interval"]
+            if lo is None:
+                continue
+            if lo > 0 or hi < 0:
+                x = abs(st["bias"]["estimate"])
+                near, far = min(abs(lo), abs(hi)), max(abs(lo), abs(hi))
+                art = ax.errorbar([dt], [x], yerr=[[x - near], [far - x]], fmt="o", color=color,
+                                  label=None if color else label)
+                color = art.lines[0].get_color()
+            else:
+                art, = ax.plot([dt], [max(abs(lo), abs(hi))], "v", mfc="none", color=color,
+                               label=None if color else label)
+                color = art.get_color()
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("dt (s)")
+    ax.set_ylabel(f"|bias| of mean {study['quantity']} ({study['ensemble']['members']} members; v: undetected, bound)")
+    ax.set_title(f"{study['scene']}: {study['quantity']} at t = {study['t_end']:g} s, reference ensemble", fontsize=10)
 
 
 def plot_sweep(study, ax):
@@ -50,26 +82,66 @@ def plot_sweep(study, ax):
 
 
 def plot_wp(study, ax):
+    ensemble = study.get("ensemble")
     for entry in study["integrators"]:
-        noise = entry.get("noise", [0] * len(entry["error"]))
-        pts = [(e, s, n) for e, s, n in zip(entry["error"], entry["wall_seconds"], noise) if e and s]
+        if ensemble:
+            # Ensembles: a bias the test detects at its |estimate| with its interval; one it cannot
+            # detect as an open marker at the interval's far end, an upper bound of the error.
+            color = None
+            for s, st in zip(entry["wall_seconds"], entry["statistics"]):
+                if not st or not s or st["bias"]["interval"][0] is None:
+                    continue
+                b = st["bias"]
+                lo, hi = b["interval"]
+                if b["verdict"] == "biased":
+                    x = abs(b["estimate"])
+                    near, far = min(abs(lo), abs(hi)), max(abs(lo), abs(hi))
+                    line = ax.errorbar([x], [s], xerr=[[x - near], [far - x]], fmt="o", color=color,
+                                       label=None if color else entry["name"])
+                else:
+                    line = ax.plot([max(abs(lo), abs(hi))], [s], "<", mfc="none", color=color,
+                                   label=None if color else entry["name"])
+                color = (line[0] if isinstance(line, list) else line.lines[0]).get_color()
+            ax.set_xscale("log")
+            ax.set_yscale("log")
+            continue
+        pts = [(e, s) for e, s in zip(entry["error"], entry["wall_seconds"]) if e and s]
         if pts:
-            xs, ys, ns = zip(*sorted(pts))
-            line, = ax.loglog(xs, ys, "o-", label=entry["name"])
-            if "noise" in entry:  # ensemble: the noise floor of each error as a horizontal bar
-                ax.errorbar(xs, ys, xerr=[[min(n, 0.999 * x) for x, n in zip(xs, ns)], ns], fmt="none",
-                            color=line.get_color(), alpha=0.5)
-    ax.set_xlabel(f"error of {study['quantity']} (max abs, reference {study['reference']})"
-                  + (f"; bars: noise of {study['seeds']} fills" if "seeds" in study else ""))
+            xs, ys = zip(*sorted(pts))
+            ax.loglog(xs, ys, "o-", label=entry["name"])
+    label = f"error of {study['quantity']} (max abs, reference {study['reference']})"
+    if ensemble:
+        label = (f"|bias| of mean {study['quantity']} ({ensemble['members']} members, "
+                 f"{100 * ensemble['level']:g} % CI; <: undetected, bound)")
+    ax.set_xlabel(label)
     ax.set_ylabel(f"wall time (s, minimum of {study['repeats']} runs)")
     ax.set_title(f"{study['scene']}: work-precision ({study['setting']} varied)", fontsize=10)
+
+
+def plot_recommend(study, ax):
+    # Cost against error of every probed step, the tolerance as a vertical line, the choice ringed.
+    by = {}
+    for p in study["probes"]:
+        if p.get("error") is not None and p["seconds"] > 0:
+            by.setdefault(p["integrator"], []).append((max(p["error"], 1e-300), p["seconds"]))
+    for name, pts in by.items():
+        xs, ys = zip(*pts)
+        ax.loglog(xs, ys, "o-", label=name)
+    ax.axvline(study["tolerance"], color="black", ls="--", label="tolerance")
+    r = study.get("recommendation")
+    if r:
+        ax.loglog([max(r["error"], 1e-300)], [r["seconds_per_run"]], "o", ms=14, mfc="none", color="red",
+                  label=f"recommended: {r['integrator']} at {r['dt']:.3g} s")
+    ax.set_xlabel(f"error of {study['quantity']} (reference {study['reference']})")
+    ax.set_ylabel("wall seconds per run")
+    ax.set_title(f"{study['scene']}: kiln recommend", fontsize=10)
 
 
 def main(kind, source, target):
     with open(source) as f:
         study = json.load(f)
     fig, ax = plt.subplots(figsize=(7, 5))
-    {"order": plot_order, "sweep": plot_sweep, "wp": plot_wp}[kind](study, ax)
+    {"order": plot_order, "sweep": plot_sweep, "wp": plot_wp, "recommend": plot_recommend}[kind](study, ax)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()

@@ -34,6 +34,7 @@ std::unique_ptr<Command> add_bench_command(CLI::App& app);        // command_ben
 std::unique_ptr<Command> add_order_command(CLI::App& app);        // command_studies.cpp
 std::unique_ptr<Command> add_sweep_command(CLI::App& app);        // command_studies.cpp
 std::unique_ptr<Command> add_wp_command(CLI::App& app);           // command_studies.cpp
+std::unique_ptr<Command> add_recommend_command(CLI::App& app);    // command_studies.cpp
 
 // What `kiln movie` does, which `kiln run --movie` does too when the run ends: draws the movie of
 // the run in `dir` (src/app/movie.h) and says where it is. Returns the exit status.

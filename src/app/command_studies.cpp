@@ -6,6 +6,7 @@
 #include "src/scene/scene_yaml.h"
 #include "src/studies/study_order.h"
 #include "src/studies/study_ranks.h"
+#include "src/studies/study_recommend.h"
 #include "src/studies/study_sweep.h"
 #include "src/studies/study_wp.h"
 
@@ -28,6 +29,14 @@ class StudyCommand final : public Command {
     cli_->add_flag("--quiet", o_.quiet, "no table and no progress");
     cli_->add_flag("--heat-stage", o_.heat_stage,
                    "vary the frozen heating stage (freeze.integrator, freeze.dt); the settling keeps the scene's");
+    cli_->add_option("--seeds", seeds_,
+                     "chaotic scenes: run each point as an ensemble of N members (ensemble_member = 0..N-1), or 'auto' "
+                     "(with --se)");
+    cli_->add_option("--se", se_, "with --seeds auto: add members until each mean's standard error is below this")
+        ->check(positive_finite);
+    cli_->add_option("--max-seeds", max_seeds_, "the cap of --seeds auto (default 64)");
+    cli_->add_option("--level", level_, "confidence level of intervals and tests (default 0.95)");
+    cli_->add_option("--tolerance", tolerance_, "the bias you accept, in the quantity's unit (ensembles)");
   }
   CLI::App* cli() { return cli_; }
   Options& options() { return o_; }
@@ -36,6 +45,7 @@ class StudyCommand final : public Command {
   // alone prints and writes, into out/<scene name>/<study> unless --out says otherwise. Every exit
   // from here on goes through finish_ranks (main's too), so that no rank waits for one that has failed.
   int run() override {
+    o_.ensemble = ensemble_options(seeds_, se_, max_seeds_, level_, tolerance_);
     start_ranks();
     if (o_.out_dir.empty()) o_.out_dir = "out/" + load_scene(o_.scene, o_.sets).name + "/" + name_;
     if (this_rank() != 0) {
@@ -50,6 +60,9 @@ class StudyCommand final : public Command {
   std::string name_;
   Study study_;
   Options o_;
+  std::string seeds_;
+  double se_ = 0, level_ = 0.95, tolerance_ = 0;
+  int max_seeds_ = 64;
 };
 
 // What order and wp compare: the quantity, and the reference with its tolerance when it is a fine run.
@@ -102,9 +115,24 @@ std::unique_ptr<Command> add_wp_command(CLI::App& app) {
   cli->add_option("--dts", o.dts, "fixed steps (s)")->delimiter(',')->check(positive_finite);
   cli->add_option("--rtols", o.rtols, "tolerances (adaptive)")->delimiter(',')->check(positive_finite);
   add_reference_options(cli, o, "analytic | fine");
-  cli->add_option("--seeds", o.seeds, "chaotic scenes: average a scalar over this many fills (noise floor shown)");
-  cli->add_option("--seed-key", o.seed_key, "the key --seeds varies (default particles.0.fill.seed)");
   cli->add_option("--repeats", o.repeats, "timed runs after a warm-up")->check(CLI::Range(1, 1000));
+  return command;
+}
+
+std::unique_ptr<Command> add_recommend_command(CLI::App& app) {
+  auto command = std::make_unique<StudyCommand<RecommendOptions>>(
+      app, "recommend", "the cheapest integrator and step that meet --tolerance on a quantity (recommend.json, .csv, .png)",
+      run_recommend);
+  CLI::App* cli = command->cli();
+  RecommendOptions& o = command->options();
+  cli->add_option("--quantity", o.quantity, "the quantity (a case number, or position, velocity, temperature)")
+      ->required();
+  cli->add_option("--integrators", o.integrators, "candidates (default velocity-verlet,erk2,erk4)")->delimiter(',');
+  cli->add_option("--budget", o.budget, "CPU seconds for the probe's runs (default: none)")->check(positive_finite);
+  cli->add_option("--halvings", o.halvings, "steps probed per candidate, from 0.9 of its limit (default 6)")
+      ->check(CLI::Range(1, 20));
+  cli->add_option("--fine-rtol", o.fine_rtol, "tolerance of the fine reference (scenes without randomness)")
+      ->check(positive_finite);
   return command;
 }
 

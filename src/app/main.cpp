@@ -17,7 +17,8 @@ int main(int argc, char** argv) {
   std::vector<std::unique_ptr<kiln::Command>> commands;
   for (auto add : {kiln::add_run_command, kiln::add_movie_command, kiln::add_plot_command, kiln::add_check_command,
                    kiln::add_cases_command, kiln::add_integrators_command, kiln::add_bench_command,
-                   kiln::add_order_command, kiln::add_sweep_command, kiln::add_wp_command})
+                   kiln::add_order_command, kiln::add_sweep_command, kiln::add_wp_command,
+                   kiln::add_recommend_command})
     commands.push_back(add(app));
   try {
     app.parse(argc, argv);

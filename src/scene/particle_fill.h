@@ -26,7 +26,15 @@ class Random {
   uint64_t state_;
 };
 
+// The seed of ensemble member `member` (src/scene/scene.h) for a seed a scene declares: the
+// seed itself for member 0, otherwise a SplitMix64 draw from the two, so that members differ in
+// every stream and no two (seed, member) pairs of a scene share one by an offset.
+inline uint64_t ensemble_seed(uint64_t seed, long long member) {
+  return member == 0 ? seed : Random(seed ^ (static_cast<uint64_t>(member) * 0xD1B54A32D192ED03ull)).next();
+}
+
 struct RadiusDistribution {
+  bool random() const { return min != max; }
   double min = 0, max = 0;  // uniform in [min, max]; min == max for one size
   double draw(Random& rng) const { return min == max ? min : rng.uniform(min, max); }
 };

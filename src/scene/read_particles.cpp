@@ -55,15 +55,16 @@ Placement read_fill(const SceneNode& fill, const SceneNode& radius, const Scene&
   // A disc that finds no place in a million tries will not find one: the region is full.
   const long long attempts = fill.has("attempts") ? fill["attempts"].integer(1, 1000000) : 10000;
   try {
-    return random_fill(region, static_cast<int>(count), read_radius(radius), static_cast<uint64_t>(seed), attempts,
-                       scene.position, scene.radius);
+    return random_fill(region, static_cast<int>(count), read_radius(radius),
+                       ensemble_seed(static_cast<uint64_t>(seed), scene.ensemble_member), attempts, scene.position,
+                       scene.radius);
   } catch (const std::runtime_error& e) {
     fill.fail(e.what());
   }
 }
 
 // lattice: rows x columns discs, their number computed in 64 bits and counted against the memory.
-Placement read_lattice(const SceneNode& lat, const SceneNode& radius, MemoryClaim& claim) {
+Placement read_lattice(const SceneNode& lat, const SceneNode& radius, const Scene& scene, MemoryClaim& claim) {
   lat.allow();
   const bool hex = lat.has("kind") && lat["kind"].choice({"hexagonal", "square"}) == "hexagonal";
   const long long rows = lat["rows"].integer(1, LLONG_MAX), columns = lat["columns"].integer(1, LLONG_MAX);
@@ -76,7 +77,7 @@ Placement read_lattice(const SceneNode& lat, const SceneNode& radius, MemoryClai
   const double jitter = lat.has("jitter") ? lat["jitter"].non_negative() : 0.0;
   const long long seed = lat.has("seed") ? lat["seed"].integer(0, LLONG_MAX) : 1;
   return lattice(hex, origin, spacing, static_cast<int>(rows), static_cast<int>(columns), read_radius(radius), jitter,
-                 static_cast<uint64_t>(seed));
+                 ensemble_seed(static_cast<uint64_t>(seed), scene.ensemble_member));
 }
 
 // file: a particle file (src/scene/particle_file.h) beside the scene, in the format of its extension or
@@ -108,17 +109,24 @@ Placement read_placement(const SceneNode& ps, const Scene& scene, MemoryClaim& c
   if (ways != 1) ps.fail("give exactly one of 'at' (a list of positions), 'fill', 'lattice' or 'file'");
   if (file) return {file->position, file->radius};
   if (auto fill = ps.optional("fill")) return read_fill(*fill, ps["radius"], scene, claim);
-  if (auto lat = ps.optional("lattice")) return read_lattice(*lat, ps["radius"], claim);
+  if (auto lat = ps.optional("lattice")) return read_lattice(*lat, ps["radius"], scene, claim);
   const auto at = ps["at"].items();
   claim.add_particles(ps["at"], static_cast<long long>(at.size()), std::to_string(at.size()));
   const RadiusDistribution radii = read_radius(ps["radius"]);
   Placement placed;
-  Random rng(0);
+  Random rng(ensemble_seed(0, scene.ensemble_member));
   for (const SceneNode& p : at) {
     placed.position.push_back(point(p));
     placed.radius.push_back(radii.draw(rng));
   }
   return placed;
+}
+
+// Whether a particle set's placement, radii or velocities are drawn from a seed (and so differ
+// between the members of an ensemble).
+bool declares_randomness(const SceneNode& ps) {
+  const bool jitter = ps.has("lattice") && ps["lattice"].has("jitter") && ps["lattice"]["jitter"].non_negative() > 0;
+  return ps.has("fill") || jitter || ps.has("random_velocity") || (ps.has("radius") && ps["radius"].is_map());
 }
 
 }  // namespace
@@ -149,8 +157,10 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
     if (auto rv = ps.optional("random_velocity")) {
       rv->allow();
       jitter = (*rv)["max"].positive();
-      velocity_rng = Random(static_cast<uint64_t>(rv->has("seed") ? (*rv)["seed"].integer(0, LLONG_MAX) : 1));
+      velocity_rng = Random(ensemble_seed(
+          static_cast<uint64_t>(rv->has("seed") ? (*rv)["seed"].integer(0, LLONG_MAX) : 1), scene.ensemble_member));
     }
+    if (declares_randomness(ps)) scene.random_sources.push_back(ps.path());
     // temperature: T, or {x_split: x, left: T1, right: T2} (a hot half and a cold half).
     const auto temp = ps.optional("temperature");
     double t_left = NAN, t_right = NAN, x_split = INFINITY;

@@ -104,6 +104,12 @@ struct Scene {
   bool frozen = false;  // mechanics frozen from the start: a thermal-only scene
   FreezeStage freeze;
 
+  // Ensembles (studies' --seeds): member k mixes k into every seed the scene declares (fills,
+  // lattice jitter, random radii and velocities); 0 is the scene as written. random_sources names
+  // the particle sets whose placement or velocities are drawn: none, and every member is the same.
+  long long ensemble_member = 0;
+  std::vector<std::string> random_sources;
+
   std::vector<Wall> walls;
   std::vector<Segment> segments;
   PeriodicCell periodic;  // no periodic axis unless given
@@ -117,6 +123,7 @@ struct Scene {
   double dt = 0;
   double t_end = 0;
   Location t_end_at;  // where t_end was given (file, line, key), for refusals of the run's length
+  Location dt_at;     // where dt was given: the run's length in steps is t_end's and dt's
   double output_interval = 0;
   double skin = 0;                    // neighbour skin (m); 0 = automatic
   double max_overlap_fraction = 0.5;  // instability check: overlap / smaller radius

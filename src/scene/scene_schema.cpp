@@ -10,7 +10,7 @@ const KeySchema& scene_schema() {
     {"", {"name", "description", "mass_model", "thickness", "gravity", "materials", "contact_model", "contacts",
           "conduction_model", "rolling_model", "heat_from_dissipation", "mechanics", "freeze", "particles", "walls",
           "integrator", "rtol", "atol", "contact_events", "linear_solver", "dt", "t_end", "output_interval", "skin",
-          "allow_overlap", "checks", "stop", "report", "periodic"}},
+          "allow_overlap", "checks", "stop", "report", "periodic", "ensemble_member"}},
     {"periodic", {"x", "y"}},
     {"materials", {"*"}},
     {"materials.*", {"density", "youngs_modulus", "poisson_ratio", "stiffness", "restitution", "friction",

@@ -12,15 +12,11 @@
 
 namespace kiln {
 
-namespace {
-
 int nominal_order(const std::string& name) {
   for (const auto& info : integrator_catalogue())
     if (info.name == name) return info.order;
   return 0;
 }
-
-}  // namespace
 
 nlohmann::json run_order_study(const OrderOptions& o_in) {
   OrderOptions o = o_in;
@@ -35,6 +31,7 @@ nlohmann::json run_order_study(const OrderOptions& o_in) {
                      choices_nearest_first(o.reference, {"analytic", "richardson", "fine"}));
   check_quantity(base, o.quantity);
   for (const std::string& name : o.integrators) make_integrator(name);  // unknown names fail here
+  if (o.ensemble.on()) return run_order_ensemble(o, base, t_end);
 
   // The reference: none for Richardson, which compares successive levels.
   const StudyReference ref =

@@ -5,6 +5,9 @@
 #include <string>
 #include <vector>
 
+#include "src/scene/scene.h"
+#include "src/studies/study_ensemble.h"
+
 namespace kiln {
 
 struct OrderOptions {
@@ -22,11 +25,19 @@ struct OrderOptions {
   int threads = 0;      // 0: every core
   bool heat_stage = false;  // vary freeze.integrator and freeze.dt; the settling keeps the scene\'s
   bool quiet = false;
+  EnsembleOptions ensemble;  // --seeds: orders of an ensemble mean's bias (src/studies/study_ensemble.h)
 };
 
 // Runs the study (in parallel over threads and, under mpirun, ranks; results depend on neither),
 // prints the table unless quiet, writes the files if out_dir is given, and returns order.json's
 // content.
 nlohmann::json run_order_study(const OrderOptions& options);
+
+// With --seeds (study_order_ensemble.cpp): each level an ensemble, its mean's bias against the
+// first integrator's ensemble one level below the finest, paired seed by seed; an order between
+// two levels only where both biases are detected, with its standard error.
+nlohmann::json run_order_ensemble(const OrderOptions& options, const Scene& base, double t_end);
+// An integrator's nominal order (0 for a name not in the catalogue).
+int nominal_order(const std::string& name);
 
 }  // namespace kiln

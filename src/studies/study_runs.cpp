@@ -15,6 +15,7 @@
 #include <sched.h>
 
 #include "contact/normal_force.h"
+#include "integrators/integrator.h"
 #include "src/base/error.h"
 #include "src/run/stability.h"
 #include "src/studies/exact_solutions.h"
@@ -289,6 +290,13 @@ StudyReference study_reference(const Scene& scene, const std::string& path, cons
   for (const StudyRun& r : fine)
     if (!r.failure.empty()) throw StudyError("the fine reference run failed: " + r.failure);
   return {fine[0].value, max_abs_difference(fine[0].value, fine[1].value)};
+}
+
+StudyLimit study_limit(const StabilityEstimate& est, const Scene& scene, const std::string& integrator, bool heat_stage) {
+  const double conduction =
+      real_stability_of(integrator) / 2 * (heat_stage ? est.thermal_dt_limit : est.thermal_dt_limit_network);
+  const bool binds = scene.thermal && (scene.frozen || heat_stage || conduction < est.dt_limit);
+  return {binds ? conduction : est.dt_limit, binds};
 }
 
 void require_a_result(const std::vector<StudyRun>& runs) {

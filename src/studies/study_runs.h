@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "src/run/simulation.h"
+#include "src/run/stability.h"
 #include "src/scene/scene.h"
 
 namespace kiln {
@@ -67,6 +68,18 @@ struct StudyReference {
 StudyReference study_reference(const Scene& scene, const std::string& path, const std::vector<std::string>& sets,
                                const std::string& quantity, double t_end, const std::string& kind, double fine_dt,
                                double fine_rtol, bool heat_stage = false);
+
+// The step limit that binds a study's runs of `integrator`: conduction's alone on a frozen scene
+// (or the heating stage), the smaller of the two on a thermal scene that moves, the contacts'
+// otherwise. Conduction's is 2 / lambda_max times the integrator's reach on the negative real axis
+// / 2 (none for IMEX, whose moving scenes are then bound by their contacts), on the network at
+// t = 0 (what check refuses by); the heating stage's network forms during the run, and the
+// dense-packing estimate stands for it.
+struct StudyLimit {
+  double dt = INFINITY;
+  bool conduction = false;  // conduction's limit binds
+};
+StudyLimit study_limit(const StabilityEstimate& est, const Scene& scene, const std::string& integrator, bool heat_stage);
 
 // A study whose every run failed has no figure to report: StudyError naming the first run's reason.
 void require_a_result(const std::vector<StudyRun>& runs);

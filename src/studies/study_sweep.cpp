@@ -13,6 +13,65 @@
 
 namespace kiln {
 
+namespace {
+
+// The ensembles' statistics of a sweep: per quantity and step the mean with its interval and the
+// bias against the smallest step's ensemble (paired seed by seed), and, with a tolerance, the
+// largest step whose bias lies within it at that step and at every smaller one (the evidence: its
+// interval). Writes them into the study's JSON and returns the text that follows the table.
+std::string ensemble_sweep(const SweepOptions& o, const std::vector<double>& dts,
+                           const std::vector<std::string>& quantities, const std::vector<EnsembleRuns>& ensembles,
+                           nlohmann::json& out) {
+  const EnsembleOptions& e = o.ensemble;
+  out["ensemble"] = ensemble_settings_json(e, ensembles.front());
+  std::string text(1, '\n');
+  text += ensemble_heading(e, ensembles.front(), format("the smallest step, %.4g s", dts.front()));
+  for (size_t qi = 0; qi < quantities.size(); ++qi) {
+    const EnsembleRuns& runs = ensembles[qi];
+    if (qi > 0 && runs.members != ensembles.front().members)
+      text += format("(%s: %d members)\n", quantities[qi].c_str(), runs.members);
+    const std::vector<double> reference = member_values(runs.points.front());
+    nlohmann::json rows = nlohmann::json::array();
+    text += format("%s\n        dt            mean   +- interval     bias and verdict\n", quantities[qi].c_str());
+    double largest = 0;
+    bool within_so_far = !reference.empty() && e.tolerance > 0;
+    for (size_t k = 0; k < dts.size(); ++k) {
+      const std::vector<double> values = member_values(runs.points[k]);
+      if (values.empty()) {
+        rows.push_back({{"dt", dts[k]}, {"failure", member_failure(runs.points[k])}});
+        text += format("  %12.4e   failed: %s\n", dts[k], member_failure(runs.points[k]).c_str());
+        within_so_far = false;
+        continue;
+      }
+      const Ensemble stats = ensemble_of(values, e.level);
+      nlohmann::json row = {{"dt", dts[k]}, {"ensemble", ensemble_json(stats)}};
+      std::string says = "(the reference)";
+      if (k > 0 && !reference.empty()) {
+        const Bias bias = paired_bias(values, reference, e.level, e.power);
+        row["bias"] = bias_json(bias, e.tolerance);
+        says = format("%+.3g: ", bias.estimate) + describe(bias, e.tolerance);
+        within_so_far = within_so_far && verdict_of(bias, e.tolerance) == BiasVerdict::within_tolerance;
+        if (within_so_far) largest = dts[k];
+      }
+      rows.push_back(row);
+      text += format("  %12.4e  %12.6g  %10.2g     %s\n", dts[k], stats.mean, (stats.high - stats.low) / 2, says.c_str());
+    }
+    out["statistics"][quantities[qi]] = rows;
+    if (e.tolerance > 0) {
+      out["largest_dt_within_tolerance"][quantities[qi]] = largest > 0 ? nlohmann::json(largest) : nlohmann::json(nullptr);
+      text += largest > 0 ? format("largest dt whose bias lies within %.3g (its %g %% interval inside +-%.3g, and at "
+                                   "every smaller step): %.4g s\n",
+                                   e.tolerance, 100 * e.level, e.tolerance, largest)
+                          : format("no step above the smallest shows its bias within %.3g at this ensemble size: more "
+                                   "seeds, or a smaller --dt-min\n",
+                                   e.tolerance);
+    }
+  }
+  return text;
+}
+
+}  // namespace
+
 nlohmann::json run_sweep_study(const SweepOptions& o) {
   const Scene base = load_scene(o.scene, o.sets);
   if (!(o.dt_min > 0 && o.dt_max > o.dt_min)) throw InputError("need 0 < --dt-min < --dt-max");
@@ -24,19 +83,40 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
     if (quantities.empty()) quantities.push_back(base.thermal ? "temperature" : "position");
   }
   for (const std::string& q : quantities) check_quantity(base, q);
+  const bool ensemble = o.ensemble.on();
+  if (ensemble)
+    for (const std::string& q : quantities) check_ensemble(base, q);
+  if (o.ensemble.tolerance > 0 && !ensemble)
+    throw InputError("--tolerance judges the bias of ensemble means: give --seeds N or --seeds auto with it");
 
   // One run per (dt, quantity); field quantities are reported as their difference from the
   // run at the smallest dt (the sensitivity of the result to the step).
   std::vector<double> dts;
   for (int k = 0; k < o.points; ++k) dts.push_back(o.dt_min * std::pow(o.dt_max / o.dt_min, k / (o.points - 1.0)));
   std::vector<std::vector<StudyRun>> per_quantity;
+  std::vector<EnsembleRuns> ensembles;  // with --seeds: per quantity, the members of each step
   for (const std::string& q : quantities) {
     std::vector<StudyRun> runs;
     for (double dt : dts) runs.emplace_back(o.integrator, dt);
     // The runs' end states: settled ones, whose contact network may bind below the start's (the
     // finest run that reached its end is used).
     for (StudyRun& r : runs) r.limit_at_end = per_quantity.empty() && !o.heat_stage;
-    run_study(o.scene, o.sets, t_end, q, runs, o.threads, o.quiet, o.heat_stage);
+    auto run = [&](std::vector<StudyRun>& batch) {
+      run_study(o.scene, o.sets, t_end, q, batch, o.threads, o.quiet, o.heat_stage);
+    };
+    if (ensemble) {
+      // A step stands for its members: member 0's run (and limit at the end), failed if any failed.
+      ensembles.push_back(run_ensembles(runs, o.ensemble, run));
+      for (size_t k = 0; k < runs.size(); ++k) {
+        runs[k] = ensembles.back().points[k].front();
+        bool unstable = false;
+        runs[k].failure = member_failure(ensembles.back().points[k], &unstable);
+        runs[k].unstable = unstable;
+        if (!runs[k].failure.empty()) runs[k].value.clear();
+      }
+    } else {
+      run(runs);
+    }
     per_quantity.push_back(runs);
   }
 
@@ -82,16 +162,9 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   out["estimate"] = estimate_json(est);
   out["estimate_at_start"] = estimate_json(at_start);
   out["limit_at_end"] = settled != first.end() ? settled->at_end : nlohmann::json(nullptr);
-  // The limit that binds: conduction's alone on a frozen scene, the smaller of the two on a
-  // thermal scene that moves, the contacts' otherwise.
-  // Conduction's limit is 2 / lambda_max times the integrator's reach on the negative real axis / 2
-  // (none for IMEX, whose moving scenes are then bound by their contacts).
-  // On the network at t = 0 (what check refuses by); the dense-packing guess is only a warning.
-  // The heating stage's network forms during the run: the dense-packing estimate stands for it.
-  const double conduction_limit =
-      real_stability_of(o.integrator) / 2 * (o.heat_stage ? est.thermal_dt_limit : est.thermal_dt_limit_network);
-  const bool conduction_binds = base.thermal && (base.frozen || o.heat_stage || conduction_limit < est.dt_limit);
-  const double limit = conduction_binds ? conduction_limit : est.dt_limit;
+  const StudyLimit binding = study_limit(est, base, o.integrator, o.heat_stage);
+  const bool conduction_binds = binding.conduction;
+  const double limit = binding.dt;
   out["estimate"]["binding_limit"] = limit;
   std::vector<std::string> header = {"dt", "stable"};
   header.insert(header.end(), quantities.begin(), quantities.end());
@@ -107,6 +180,8 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
     for (const StudyRun& r : runs) {
       if (!r.failure.empty()) {
         column.push_back(nullptr);
+      } else if (ensemble) {
+        column.push_back(ensemble_of(member_values(ensembles[qi].points[&r - runs.data()]), o.ensemble.level).mean);
       } else {
         column.push_back(field ? max_abs_difference(r.value, runs.front().value) : r.value.front());
       }
@@ -164,8 +239,9 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
     boundary += format("runs above the boundary were stable again, up to %.5g s: a window of instability (the "
                        "first failure is the boundary)\n",
                        stable_above);
-  report.publish(format("%s with %s to t = %g s (fields: difference from the smallest dt)\n\n", base.name.c_str(),
-                        o.integrator.c_str(), t_end),
+  if (ensemble) boundary += ensemble_sweep(o, dts, quantities, ensembles, out);
+  report.publish(format("%s with %s to t = %g s (%s)\n\n", base.name.c_str(), o.integrator.c_str(), t_end,
+                        ensemble ? "numbers: ensemble means" : "fields: difference from the smallest dt"),
                  "\n" + boundary, o.out_dir, o.quiet);
   require_a_result(first);
   return out;

@@ -4,6 +4,8 @@
 #include <string>
 #include <vector>
 
+#include "src/studies/study_ensemble.h"
+
 namespace kiln {
 
 struct SweepOptions {
@@ -19,6 +21,9 @@ struct SweepOptions {
   int threads = 0;
   bool heat_stage = false;  // vary freeze.integrator and freeze.dt; the settling keeps the scene\'s
   bool quiet = false;
+  // --seeds: each step an ensemble; its mean's bias against the smallest step's, and the largest
+  // step whose bias lies within --tolerance (src/studies/study_ensemble.h)
+  EnsembleOptions ensemble;
 };
 
 nlohmann::json run_sweep_study(const SweepOptions& options);

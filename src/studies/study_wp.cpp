@@ -12,38 +12,16 @@
 
 namespace kiln {
 
-namespace {
-
-// Mean and standard error of the mean of the first values of runs[first], runs[first + 1], ...
-// (count of them); failed runs make the mean NaN.
-std::pair<double, double> ensemble_mean(const std::vector<StudyRun>& runs, size_t first, size_t count) {
-  double mean = 0;
-  for (size_t k = first; k < first + count; ++k) {
-    if (!runs[k].failure.empty()) return {NAN, NAN};
-    mean += runs[k].value.front() / count;
-  }
-  double deviations = 0;  // two passes: a mean far above the spread would cancel in sum x^2 - n mean^2
-  for (size_t k = first; k < first + count; ++k) deviations += std::pow(runs[k].value.front() - mean, 2);
-  return {mean, count > 1 ? std::sqrt(deviations / (count - 1) / count) : 0.0};
-}
-
-}  // namespace
-
 nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
   WorkPrecisionOptions o = o_in;
   const Scene base = load_scene(o.scene, o.sets);
   if (o.quantity.empty()) o.quantity = default_quantity(base, o.heat_stage);
   check_quantity(base, o.quantity);
   if (o.dts.empty() == o.rtols.empty()) throw InputError("give either --dts or --rtols");
-  const bool ensemble = o.seeds > 0;
+  const bool ensemble = o.ensemble.on();
   if (ensemble) {
-    if (o.seeds < 2) throw InputError("--seeds needs at least 2 fills to estimate the noise floor");
-    if (const QuantityShape shape = shape_of(base, o.quantity); shape != QuantityShape::number)
-      throw InputError("--seeds compares ensemble means of a scalar; '" + o.quantity + "' is a " +
-                       (shape == QuantityShape::field ? "field" : "list") + "; available: " +
-                       choices_nearest_first(o.quantity, study_quantities(base)));
+    check_ensemble(base, o.quantity);
     o.reference = "ensemble";
-    load_scene(o.scene, [&] { auto s = o.sets; s.push_back(o.seed_key + "=1"); return s; }());  // the key exists
   } else if (o.reference != "analytic" && o.reference != "fine") {
     throw InputError("unknown --reference '" + o.reference + "'; valid choices are " +
                      choices_nearest_first(o.reference, {"analytic", "fine"}) + " (or --seeds N for chaotic scenes)");
@@ -51,37 +29,38 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
   const double t_end = o.t_end > 0 ? o.t_end : base.t_end;
   const bool adaptive = !o.rtols.empty();
   const std::vector<double>& settings = adaptive ? o.rtols : o.dts;
-  const int members = ensemble ? o.seeds : 1;
-  auto make_run = [&](const std::string& name, double v, int member) {
+  auto make_run = [&](const std::string& name, double v) {
     StudyRun run(name, adaptive ? base.dt : v, adaptive ? std::vector<std::string>{assignment("rtol", v)}
                                                          : std::vector<std::string>{});
-    if (ensemble) run.sets.push_back(o.seed_key + "=" + std::to_string(member + 1));
+    run.repeats = o.repeats;
     return run;
   };
   std::vector<StudyRun> runs;
   for (const std::string& name : o.integrators)
-    for (double v : settings)
-      for (int m = 0; m < members; ++m) {
-        runs.push_back(make_run(name, v, m));
-        runs.back().repeats = o.repeats;
-      }
+    for (double v : settings) runs.push_back(make_run(name, v));
+  auto run = [&](std::vector<StudyRun>& batch) {
+    run_study(o.scene, o.sets, t_end, o.quantity, batch, o.threads, o.quiet, o.heat_stage);
+  };
   std::vector<double> reference;
-  double reference_se = 0;
+  // Ensembles: the reference point (the first integrator at half the smallest step, or a tenth of
+  // the smallest rtol) first, then every point, all of the same members.
+  EnsembleRuns members;
+  std::vector<double> reference_members;
+  const double finest = *std::min_element(settings.begin(), settings.end()) / (adaptive ? 10 : 2);
   if (ensemble) {
-    const double finest = *std::min_element(settings.begin(), settings.end()) / (adaptive ? 10 : 2);
-    std::vector<StudyRun> ref;
-    for (int m = 0; m < members; ++m) ref.push_back(make_run(o.integrators.front(), finest, m));
-    run_study(o.scene, o.sets, t_end, o.quantity, ref, o.threads, o.quiet, o.heat_stage);
-    for (const StudyRun& r : ref)
-      if (!r.failure.empty()) throw StudyError("an ensemble reference run failed: " + r.failure);
-    const auto [mean, se] = ensemble_mean(ref, 0, members);
-    reference = {mean};
-    reference_se = se;
+    std::vector<StudyRun> points = {make_run(o.integrators.front(), finest)};
+    points.front().repeats = 1;  // not timed
+    points.insert(points.end(), runs.begin(), runs.end());
+    members = run_ensembles(points, o.ensemble, run);
+    reference_members = member_values(members.points.front());
+    if (reference_members.empty())
+      throw StudyError("an ensemble reference run failed: " + member_failure(members.points.front()));
+    reference = {ensemble_of(reference_members, o.ensemble.level).mean};
   } else {
     reference = study_reference(base, o.scene, o.sets, o.quantity, t_end, o.reference, base.dt, o.fine_rtol, o.heat_stage)
                     .value;
+    run(runs);
   }
-  run_study(o.scene, o.sets, t_end, o.quantity, runs, o.threads, o.quiet, o.heat_stage);
 
   StudyReport report("wp", study_header(base, o.quantity, o.reference, t_end));
   nlohmann::json& out = report.json();
@@ -89,62 +68,69 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
   out["repeats"] = o.repeats;
   if (o.reference == "fine") out["fine_rtol"] = o.fine_rtol;
   if (ensemble) {
-    out["seeds"] = o.seeds;
+    out["ensemble"] = ensemble_settings_json(o.ensemble, members);
+    out["reference_point"] = {{"integrator", o.integrators.front()}, {adaptive ? "rtol" : "dt", finest},
+                              {"statistics", ensemble_json(ensemble_of(reference_members, o.ensemble.level))}};
     out["reference_value"] = reference.front();
-    out["reference_standard_error"] = reference_se;
   }
   std::vector<std::string> header = {"integrator", adaptive ? "rtol" : "dt", "error", "wall_seconds", "rhs_evals"};
-  if (ensemble) header.insert(header.begin() + 3, "noise");
+  if (ensemble) header.insert(header.begin() + 3, {"bias", "bias_low", "bias_high", "verdict"});
   report.csv_row(header);
   for (size_t i = 0; i < o.integrators.size(); ++i) {
     nlohmann::json entry;
     entry["name"] = o.integrators[i];
     entry[adaptive ? "rtol" : "dt"] = settings;
-    nlohmann::json errors = nlohmann::json::array(), noise = nlohmann::json::array(),
-                   seconds = nlohmann::json::array(), evals = nlohmann::json::array();
-    report.table("%s\n   %s          error%s          seconds     rhs evals\n", o.integrators[i].c_str(),
-                 adaptive ? "rtol" : "dt  ", ensemble ? "      +- noise" : "");
+    nlohmann::json errors = nlohmann::json::array(), seconds = nlohmann::json::array(),
+                   evals = nlohmann::json::array(), statistics = nlohmann::json::array();
+    report.table("%s\n   %s          error%s          seconds     rhs evals%s\n", o.integrators[i].c_str(),
+                 adaptive ? "rtol" : "dt  ", ensemble ? "      +- (interval)" : "", ensemble ? "   verdict" : "");
     for (size_t k = 0; k < settings.size(); ++k) {
-      const size_t first = (i * settings.size() + k) * members;
-      bool failed = false, unstable = false;
+      // A point's runs: one, or its ensemble's members (after the reference point).
+      const std::vector<StudyRun> point =
+          ensemble ? members.points[1 + i * settings.size() + k] : std::vector<StudyRun>{runs[i * settings.size() + k]};
+      bool unstable = false;
+      const std::string failure = member_failure(point, &unstable);
       double wall = 0, rhs = 0;
-      for (int m = 0; m < members; ++m) {
-        const StudyRun& r = runs[first + m];
-        failed = failed || !r.failure.empty();
-        unstable = unstable || r.unstable;
-        wall += r.seconds / members;  // cost of one run
-        rhs += static_cast<double>(r.rhs_evals) / members;
+      for (const StudyRun& r : point) {
+        wall += r.seconds / point.size();  // cost of one run
+        rhs += static_cast<double>(r.rhs_evals) / point.size();
       }
-      if (failed) {
+      if (!failure.empty()) {
         errors.push_back(nullptr);
-        noise.push_back(nullptr);
         seconds.push_back(nullptr);
         evals.push_back(nullptr);
+        statistics.push_back(nullptr);
         report.table("  %12.4e   failed (%s)\n", settings[k], unstable ? "unstable" : "error");
-      } else {
-        double e, n = 0;
-        if (ensemble) {
-          const auto [mean, se] = ensemble_mean(runs, first, members);
-          e = std::abs(mean - reference.front());
-          n = std::hypot(se, reference_se);
-        } else {
-          e = max_abs_difference(runs[first].value, reference);
-        }
-        errors.push_back(e);
-        noise.push_back(n);
-        seconds.push_back(wall);
-        evals.push_back(std::lround(rhs));
-        const std::string noise_cell = ensemble ? format("   %10.3e", n) : "";
-        report.table("  %12.4e   %12.4e%s   %10.4g   %10ld\n", settings[k], e, noise_cell.c_str(), wall,
-                     std::lround(rhs));
-        std::vector<std::string> row = {o.integrators[i], csv_number(settings[k]), csv_number(e), csv_number(wall),
-                                        std::to_string(std::lround(rhs))};
-        if (ensemble) row.insert(row.begin() + 3, csv_number(n));
-        report.csv_row(row);
+        continue;
       }
+      double e;
+      std::string cells, verdict;
+      std::vector<std::string> extra;
+      if (ensemble) {
+        const std::vector<double> values = member_values(point);
+        const Bias bias = paired_bias(values, reference_members, o.ensemble.level, o.ensemble.power);
+        e = std::abs(bias.estimate);
+        statistics.push_back({{"ensemble", ensemble_json(ensemble_of(values, o.ensemble.level))},
+                              {"bias", bias_json(bias, o.ensemble.tolerance)}});
+        cells = format("   %10.2e", (bias.high - bias.low) / 2);
+        verdict = "   " + describe(bias, o.ensemble.tolerance);
+        extra = {csv_number(bias.estimate), csv_number(bias.low), csv_number(bias.high),
+                 statistics.back()["bias"]["verdict"].is_null() ? "" : statistics.back()["bias"]["verdict"].get<std::string>()};
+      } else {
+        e = max_abs_difference(point.front().value, reference);
+      }
+      errors.push_back(e);
+      seconds.push_back(wall);
+      evals.push_back(std::lround(rhs));
+      report.table("  %12.4e   %12.4e%s   %10.4g   %10ld%s\n", settings[k], e, cells.c_str(), wall, std::lround(rhs),
+                   verdict.c_str());
+      std::vector<std::string> row = {o.integrators[i], csv_number(settings[k]), csv_number(e), csv_number(wall),
+                                      std::to_string(std::lround(rhs))};
+      row.insert(row.begin() + 3, extra.begin(), extra.end());
+      report.csv_row(row);
     }
     entry["error"] = errors;
-    if (ensemble) entry["noise"] = noise;
+    if (ensemble) entry["statistics"] = statistics;
     entry["wall_seconds"] = seconds;
     entry["rhs_evals"] = evals;
     out["integrators"].push_back(entry);
@@ -152,12 +138,11 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
   std::string heading = format("%s on %s at t = %g s, reference %s; cost: minimum wall time of %d runs after a warm-up\n",
                                o.quantity.c_str(), base.name.c_str(), t_end, o.reference.c_str(), o.repeats);
   if (ensemble)
-    heading += format("ensemble of %d fills (%s = 1..%d): error of the mean, reference %.6g +- %.3g (%s at "
-                      "%s); noise: standard error of the difference\n",
-                      o.seeds, o.seed_key.c_str(), o.seeds, reference.front(), reference_se,
-                      o.integrators.front().c_str(), adaptive ? "a tenth of the smallest rtol" : "half the smallest dt");
+    heading += ensemble_heading(o.ensemble, members,
+                                format("%s at %s (mean %.6g); error: |bias|", o.integrators.front().c_str(),
+                                       format(adaptive ? "rtol %.3g" : "dt %.3g s", finest).c_str(), reference.front()));
   report.publish(heading + "\n", "", o.out_dir, o.quiet);
-  require_a_result(runs);
+  if (!ensemble) require_a_result(runs);
   return out;
 }
 

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "src/studies/study_ensemble.h"
+
 namespace kiln {
 
 struct WorkPrecisionOptions {
@@ -14,20 +16,19 @@ struct WorkPrecisionOptions {
   std::vector<double> dts;    // fixed steps, or
   std::vector<double> rtols;  // tolerances (adaptive; the first step is the scene's dt)
   std::string quantity;  // empty: default_quantity(scene)
-  std::string reference = "analytic";  // analytic | fine | ensemble (set by seeds)
+  std::string reference = "analytic";  // analytic | fine | ensemble (set by --seeds)
   // Chaotic scenes (piles, drums): a trajectory has no reference beyond its Lyapunov time, so a
-  // scalar quantity is averaged over `seeds` initial fills (seed_key = 1..seeds) and compared with
-  // the same average from the first integrator at half the smallest step (or a tenth of the
-  // smallest rtol); the standard error of the two means is reported as the noise floor.
+  // scalar quantity is averaged over an ensemble (--seeds) and compared, seed by seed, with the
+  // same members run by the first integrator at half the smallest step (or a tenth of the
+  // smallest rtol), or with the exact value where the scene has one (--reference analytic).
   double fine_rtol = 1e-11;  // tolerance of the "fine" reference run
-  int seeds = 0;
-  std::string seed_key = "particles.0.fill.seed";
   double t_end = 0;
   int repeats = 3;  // timed runs after a warm-up; the minimum wall time is kept
   std::string out_dir;
   int threads = 1;  // timing: one run at a time unless asked otherwise
   bool heat_stage = false;  // vary freeze.integrator and freeze.dt; the settling keeps the scene\'s
   bool quiet = false;
+  EnsembleOptions ensemble;
 };
 
 nlohmann::json run_work_precision(const WorkPrecisionOptions& options);

@@ -135,46 +135,53 @@ TEST_CASE("kiln wp: the error falls monotonically with dt and the JSON has the d
   }
 }
 
-TEST_CASE("kiln wp --seeds: the error is the difference of ensemble means with its standard error as the noise",
+TEST_CASE("kiln wp --seeds: the error is the ensemble's bias, paired seed by seed, with its interval and verdict",
           "[study][heavy]") {
-  // A small drum (40 discs, 50 ms): chaotic, so compared over three fills.
+  // A small drum (40 discs, 50 ms): chaotic, so compared over three members.
   WorkPrecisionOptions o;
   o.scene = testing::case_path("t6_drum.yaml");
   o.sets = {"particles.0.fill.count=40"};
   o.integrators = {"velocity-verlet"};
   o.dts = {4e-6};
   o.quantity = "temperature_std";
-  o.seeds = 3;
+  o.ensemble.seeds = 3;
   o.t_end = 0.05;
   o.repeats = 1;
   o.quiet = true;
   const auto s = run_work_precision(o);
-  // The same runs by hand: mean and standard error over the fills at 4e-6 s and at 2e-6 s.
-  auto ensemble = [&](double dt) {
+  // The same runs by hand: members 0..2 at 4e-6 s and at 2e-6 s, and their differences seed by seed.
+  auto member_values = [&](double dt) {
     std::vector<double> v;
-    for (int seed = 1; seed <= 3; ++seed) {
-      const Scene scene = load_scene(o.scene, {"particles.0.fill.count=40", "particles.0.fill.seed=" + std::to_string(seed),
+    for (int m = 0; m < 3; ++m) {
+      const Scene scene = load_scene(o.scene, {"particles.0.fill.count=40", "ensemble_member=" + std::to_string(m),
                                                "t_end=0.05", "output_interval=0.05", assignment("dt", dt)});
       v.push_back(run_scene(scene, {"", true})["temperature_std"].get<double>());
     }
-    const double mean = (v[0] + v[1] + v[2]) / 3;
-    double dev = 0;
-    for (double x : v) dev += (x - mean) * (x - mean);
-    return std::pair{mean, std::sqrt(dev / 2 / 3)};
+    return v;
   };
-  const auto [run_mean, run_se] = ensemble(4e-6);
-  const auto [ref_mean, ref_se] = ensemble(2e-6);
+  const std::vector<double> run = member_values(4e-6), ref = member_values(2e-6);
+  double mean = 0, dev = 0;
+  for (int m = 0; m < 3; ++m) mean += (run[m] - ref[m]) / 3;
+  for (int m = 0; m < 3; ++m) dev += std::pow(run[m] - ref[m] - mean, 2);
+  const double se = std::sqrt(dev / 2 / 3);
   CHECK(s["reference"] == "ensemble");
-  CHECK(s["seeds"] == 3);
-  CHECK(s["reference_value"].get<double>() == Approx(ref_mean).epsilon(1e-12));
-  CHECK(s["reference_standard_error"].get<double>() == Approx(ref_se).epsilon(1e-9));
+  CHECK(s["ensemble"]["members"] == 3);
+  CHECK(s["reference_value"].get<double>() == Approx((ref[0] + ref[1] + ref[2]) / 3).epsilon(1e-12));
   const auto& entry = s["integrators"][0];
-  CHECK(entry["error"][0].get<double>() == Approx(std::abs(run_mean - ref_mean)).epsilon(1e-9));
-  CHECK(entry["noise"][0].get<double>() == Approx(std::hypot(run_se, ref_se)).epsilon(1e-9));
-  CHECK(ref_se > 0);  // the fills differ
-  // A field cannot be averaged over different fills.
+  const auto& bias = entry["statistics"][0]["bias"];
+  CHECK(entry["error"][0].get<double>() == Approx(std::abs(mean)).epsilon(1e-9));
+  CHECK(bias["standard_error"].get<double>() == Approx(se).epsilon(1e-9));
+  CHECK(bias["test"] == "paired t");
+  // The 95 % interval of 2 degrees of freedom: the mean +- 4.303 standard errors.
+  CHECK(bias["interval"][1].get<double>() - mean == Approx(4.302653 * se).epsilon(1e-5));
+  CHECK(ref[0] != ref[1]);  // the members differ
+  // A field cannot be averaged over different fills; a scene with nothing random has no ensemble.
   o.quantity = "temperature";
   CHECK_THROWS_WITH(run_work_precision(o), Catch::Contains("is a field"));
+  o.scene = testing::case_path("t1_free_fall.yaml");
+  o.sets = {};
+  o.quantity = "velocity";
+  CHECK_THROWS_WITH(run_work_precision(o), Catch::Contains("declares nothing random"));
 }
 
 TEST_CASE("on a frozen thermal scene the studies compare temperatures and the conduction limit by default",

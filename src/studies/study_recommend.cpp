@@ -1,0 +1,321 @@
+#include "src/studies/study_recommend.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "integrators/integrator.h"
+#include "src/base/error.h"
+#include "src/base/nearest.h"
+#include "src/scene/scene_yaml.h"
+#include "src/studies/exact_solutions.h"
+#include "src/studies/study_order.h"
+#include "src/studies/study_report.h"
+#include "src/studies/study_runs.h"
+
+namespace kiln {
+
+namespace {
+
+struct Candidate {
+  std::string name;
+  double limit = INFINITY;  // its stability limit on the scene (s)
+  bool conduction = false;  // conduction's limit binds
+  double first = 0;         // the first step probed (s)
+  bool live = true;
+  std::string stopped;      // why its probe ended
+};
+
+// One probed step: its error (or bias) against the reference and its cost.
+struct Probe {
+  std::string integrator;
+  double dt = 0, fraction = NAN;  // fraction: of the integrator's stability limit
+  double error = NAN;             // |difference| (plus the reference's accuracy), or |bias|
+  Bias bias;                      // chaotic scenes
+  bool meets = false, unstable = false;
+  std::string failure;
+  double seconds = 0;  // one run's wall time (an ensemble's mean)
+  int members = 1;
+  double rhs = 0;
+};
+
+double mean_of(const std::vector<StudyRun>& runs, double StudyRun::*field) {
+  double s = 0;
+  for (const StudyRun& r : runs) s += r.*field / runs.size();
+  return s;
+}
+
+}  // namespace
+
+nlohmann::json run_recommend(const RecommendOptions& o) {
+  const Scene base = load_scene(o.scene, o.sets);
+  if (o.quantity.empty())
+    throw InputError("--quantity is required: the quantity the tolerance is about; available: " +
+                     choices_nearest_first("", study_quantities(base)));
+  check_quantity(base, o.quantity);
+  const double tolerance = o.ensemble.tolerance;
+  if (!(tolerance > 0))
+    throw InputError("--tolerance is required: the error of " + o.quantity + " you accept, in its unit");
+  if (o.integrators.empty()) throw InputError("--integrators: give at least one integrator");
+  if (o.halvings < 1 || o.halvings > 20)
+    throw InputError("--halvings: a whole number in [1, 20] is needed, got " + std::to_string(o.halvings));
+  if (!(o.budget >= 0)) throw InputError("--budget: CPU seconds, 0 (none) or more");
+  for (const std::string& name : o.integrators) make_integrator(name);  // unknown names fail here
+  const double t_end = o.t_end > 0 ? o.t_end : base.t_end;
+  const bool chaotic = !base.random_sources.empty() || o.ensemble.on();
+  const EnsembleOptions& ensemble = o.ensemble;
+  if (chaotic) check_ensemble(base, o.quantity);
+  // Ensembles start at 8 members (or --seeds N, fixed) and grow only where a verdict needs them.
+  const int first_members = ensemble.seeds > 0 ? ensemble.seeds : 8;
+  const int max_members = ensemble.seeds > 0 ? ensemble.seeds : std::max(first_members, ensemble.max_seeds);
+
+  std::vector<Candidate> candidates;
+  for (const std::string& name : o.integrators) {
+    Candidate c;
+    c.name = name;
+    const StudyLimit limit = study_limit(estimate_stability(base, o.heat_stage ? "" : name), base, name, o.heat_stage);
+    c.limit = limit.dt;
+    c.conduction = limit.conduction;
+    // No limit (nothing touches, nothing conducts): from 16 of the scene's steps, and a run of 4 steps at least.
+    c.first = std::min(std::isfinite(c.limit) ? 0.9 * c.limit : 16 * base.dt, t_end / 4);
+    candidates.push_back(c);
+  }
+  auto run = [&](std::vector<StudyRun>& batch) {
+    run_study(o.scene, o.sets, t_end, o.quantity, batch, o.threads, o.quiet, o.heat_stage);
+  };
+  double spent = 0;  // CPU seconds of the probe's runs
+
+  // The reference.
+  nlohmann::json reference_json;
+  std::vector<double> reference;          // the value (no randomness), or each member's (chaotic)
+  double reference_accuracy = 0;
+  std::vector<StudyRun> reference_members;  // chaotic: the reference's members, grown with the probes'
+  StudyRun reference_point("", 0);
+  if (chaotic) {
+    const auto best = std::max_element(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+      return nominal_order(a.name) < nominal_order(b.name);
+    });
+    reference_point = StudyRun(best->name, best->first / std::pow(2.0, o.halvings));
+    grow_ensembles({{&reference_members, reference_point, first_members}}, run);
+    for (const StudyRun& r : reference_members) spent += r.seconds;
+    reference_json = {{"kind", "ensemble"}, {"integrator", best->name}, {"dt", reference_point.dt}};
+  } else if (const auto exact = exact_quantity(base, o.quantity, t_end)) {
+    reference = *exact;
+    reference_json = {{"kind", "analytic"}};
+  } else {
+    double finest = INFINITY;
+    for (const Candidate& c : candidates) finest = std::min(finest, c.first / std::pow(2.0, o.halvings));
+    const StudyReference ref =
+        study_reference(base, o.scene, o.sets, o.quantity, t_end, "fine", finest, o.fine_rtol, o.heat_stage);
+    reference = ref.value;
+    reference_accuracy = ref.accuracy;
+    reference_json = {{"kind", "fine"}, {"fine_rtol", o.fine_rtol}, {"accuracy", ref.accuracy}};
+  }
+
+  // Chaotic: a probe's bias against the reference's first members, as many as the probe has.
+  auto bias_of = [&](const std::vector<StudyRun>& runs) {
+    const std::vector<double> values = member_values(runs);
+    std::vector<double> ref = member_values(reference_members);
+    if (ref.empty()) throw StudyError("the reference ensemble failed: " + member_failure(reference_members));
+    ref.resize(values.size());
+    return paired_bias(values, ref, ensemble.level, ensemble.power);
+  };
+  // A verdict is decided when the bias's interval lies within the tolerance or wholly beyond it;
+  // otherwise the probe (and the reference, to pair with it) gets the members that would shrink the
+  // interval to the margin between its estimate and the tolerance (the interval narrows as
+  // 1 / sqrt(N)), a tenth more, four at least, up to the cap.
+  auto decide = [&](const std::vector<StudyRun>& points, std::vector<std::vector<StudyRun>>& results) {
+    for (;;) {
+      std::vector<Growth> grow;
+      int need = 0;
+      for (size_t k = 0; k < points.size(); ++k) {
+        if (member_values(results[k]).empty()) continue;
+        const Bias b = bias_of(results[k]);
+        if (!std::isfinite(b.low) || verdict_of(b, tolerance) == BiasVerdict::within_tolerance || b.low > tolerance ||
+            b.high < -tolerance)
+          continue;
+        const int n = static_cast<int>(results[k].size());
+        if (n >= max_members) continue;
+        const double margin = std::max(std::abs(tolerance - std::abs(b.estimate)), 0.1 * tolerance);
+        const double factor = std::pow((b.high - b.low) / 2 / margin, 2);
+        const int wanted = std::min(max_members, std::max(n + 4, static_cast<int>(std::ceil(1.1 * n * factor))));
+        need = std::max(need, wanted);
+        grow.push_back({&results[k], points[k], wanted});
+      }
+      if (grow.empty()) return;
+      if (static_cast<int>(reference_members.size()) < need) grow.push_back({&reference_members, reference_point, need});
+      const size_t before = reference_members.size();
+      grow_ensembles(grow, run);
+      for (size_t m = before; m < reference_members.size(); ++m) spent += reference_members[m].seconds;
+    }
+  };
+
+  // The staged probe: a round per halving.
+  std::vector<Probe> probes;
+  double best_cost = INFINITY;
+  bool budget_spent = false;
+  for (int round = 0; round < o.halvings; ++round) {
+    std::vector<size_t> who;
+    std::vector<StudyRun> points;
+    for (size_t c = 0; c < candidates.size(); ++c)
+      if (candidates[c].live) {
+        who.push_back(c);
+        points.emplace_back(candidates[c].name, candidates[c].first / std::pow(2.0, round));
+      }
+    if (points.empty()) break;
+    if (o.budget > 0 && spent >= o.budget) {
+      budget_spent = true;
+      for (size_t c : who) {
+        candidates[c].live = false;
+        candidates[c].stopped = format("the budget of %g CPU seconds was spent", o.budget);
+      }
+      break;
+    }
+    std::vector<std::vector<StudyRun>> results(points.size());
+    if (chaotic) {
+      std::vector<Growth> batch;
+      for (size_t k = 0; k < points.size(); ++k) batch.push_back({&results[k], points[k], first_members});
+      grow_ensembles(batch, run);
+      decide(points, results);
+    } else {
+      run(points);
+      for (size_t k = 0; k < points.size(); ++k) results[k] = {points[k]};
+    }
+    for (size_t k = 0; k < who.size(); ++k) {
+      Candidate& c = candidates[who[k]];
+      const std::vector<StudyRun>& runs = results[k];
+      Probe p;
+      p.integrator = c.name;
+      p.dt = runs.front().dt;
+      p.fraction = p.dt / c.limit;
+      p.failure = member_failure(runs, &p.unstable);
+      p.seconds = mean_of(runs, &StudyRun::seconds);
+      p.members = static_cast<int>(runs.size());
+      for (const StudyRun& r : runs) {
+        spent += r.seconds;
+        p.rhs += static_cast<double>(r.rhs_evals) / runs.size();
+      }
+      if (p.failure.empty()) {
+        if (chaotic) {
+          p.bias = bias_of(runs);
+          p.error = std::abs(p.bias.estimate);
+          p.meets = verdict_of(p.bias, tolerance) == BiasVerdict::within_tolerance;
+        } else {
+          p.error = max_abs_difference(runs.front().value, reference) + reference_accuracy;
+          p.meets = p.error <= tolerance;
+        }
+      } else if (!p.unstable) {  // an error, not the step: halving would not cure it
+        c.live = false;
+        c.stopped = "a run failed: " + p.failure;
+      }
+      if (p.meets) {
+        c.live = false;
+        c.stopped = "met the tolerance (smaller steps cost more)";
+        best_cost = std::min(best_cost, p.seconds);
+      }
+      probes.push_back(p);
+    }
+    // A halving doubles a run's cost: a candidate whose next step costs more than the best found stops.
+    for (size_t k = 0; k < who.size(); ++k) {
+      Candidate& c = candidates[who[k]];
+      if (c.live && round + 1 == o.halvings) {
+        c.live = false;
+        c.stopped = format("%d halvings probed without meeting the tolerance", o.halvings);
+      } else if (c.live && 2 * probes[probes.size() - who.size() + k].seconds > best_cost) {
+        c.live = false;
+        c.stopped = "its next step would cost more than the cheapest step that meets the tolerance";
+      }
+    }
+  }
+
+  // The recommendation: the cheapest step that meets the tolerance.
+  const Probe* chosen = nullptr;
+  for (const Probe& p : probes)
+    if (p.meets && (!chosen || p.seconds < chosen->seconds)) chosen = &p;
+
+  if (chaotic) {
+    reference_json["statistics"] = ensemble_json(ensemble_of(member_values(reference_members), ensemble.level));
+    reference_json["members_first"] = first_members;
+    reference_json["members_cap"] = max_members;
+  }
+  StudyReport report("recommend", study_header(base, o.quantity, reference_json["kind"].get<std::string>(), t_end));
+  nlohmann::json& out = report.json();
+  out["tolerance"] = tolerance;
+  out["reference_point"] = reference_json;
+  out["cpu_seconds"] = spent;
+  out["budget"] = o.budget > 0 ? nlohmann::json(o.budget) : nlohmann::json(nullptr);
+  out["budget_spent"] = budget_spent;
+  report.csv_row({"integrator", "dt", "fraction_of_limit", "error", "meets", "seconds", "rhs_evals"});
+  report.table("  integrator            dt        of limit   %-30s  meets   s per run   rhs evals\n",
+               chaotic ? "|bias| (interval)" : "error");
+  nlohmann::json probes_json = nlohmann::json::array();
+  for (const Probe& p : probes) {
+    nlohmann::json j = {{"integrator", p.integrator}, {"dt", p.dt}, {"members", p.members},
+                        {"fraction_of_limit", std::isfinite(p.fraction) ? nlohmann::json(p.fraction) : nlohmann::json(nullptr)},
+                        {"meets", p.meets}, {"seconds", p.seconds}, {"rhs_evals", std::lround(p.rhs)}};
+    std::string error;
+    if (!p.failure.empty()) {
+      j["failure"] = p.failure;
+      j["unstable"] = p.unstable;
+      error = p.unstable ? "unstable" : "failed";
+    } else {
+      j["error"] = p.error;
+      if (chaotic) {
+        j["bias"] = bias_json(p.bias, tolerance);
+        error = format("%.3g [%.3g, %.3g]", p.error, p.bias.low, p.bias.high);
+      } else {
+        error = format("%.4g", p.error);
+      }
+    }
+    probes_json.push_back(j);
+    report.table("  %-18s  %10.4e  %8.3f   %-30s  %-5s   %9.4g   %9ld\n", p.integrator.c_str(), p.dt, p.fraction,
+                 error.c_str(), p.meets ? "yes" : "no", p.seconds, std::lround(p.rhs));
+    report.csv_row({p.integrator, csv_number(p.dt), csv_number(p.fraction), p.failure.empty() ? csv_number(p.error) : "",
+                    p.meets ? "1" : "0", csv_number(p.seconds), std::to_string(std::lround(p.rhs))});
+  }
+  out["probes"] = probes_json;
+  nlohmann::json stops = nlohmann::json::object();
+  std::string ends;
+  for (const Candidate& c : candidates) {
+    stops[c.name] = {{"stability_limit", std::isfinite(c.limit) ? nlohmann::json(c.limit) : nlohmann::json(nullptr)},
+                     {"limit_is_conduction", c.conduction}, {"first_dt", c.first}, {"stopped", c.stopped}};
+    ends += format("  %s: %s\n", c.name.c_str(), c.stopped.c_str());
+  }
+  out["candidates"] = stops;
+  // What it did not try: the catalogue's other fixed-step schemes, adaptive stepping, steps below the last probed.
+  std::vector<std::string> others;
+  for (const IntegratorInfo& info : integrator_catalogue())
+    if (info.alias_of.empty() && info.integrates_contacts &&
+        std::find(o.integrators.begin(), o.integrators.end(), info.name) == o.integrators.end())
+      others.push_back(info.name);
+  out["not_tried"] = {{"integrators", others}, {"adaptive_stepping", true},
+                      {"steps", "below each candidate's last probed step, and above 0.9 of its stability limit"}};
+  std::string verdict;
+  if (chosen) {
+    out["recommendation"] = {{"integrator", chosen->integrator}, {"dt", chosen->dt},
+                             {"fraction_of_limit", chosen->fraction}, {"error", chosen->error},
+                             {"seconds_per_run", chosen->seconds}};
+    verdict = format("recommended: %s at dt = %.4g s (%.2f of its stability limit): %s %.3g within %.3g, %.3g s per run\n",
+                     chosen->integrator.c_str(), chosen->dt, chosen->fraction, chaotic ? "|bias|" : "error",
+                     chosen->error, tolerance, chosen->seconds);
+  } else {
+    out["recommendation"] = nullptr;
+    verdict = format("no probed scheme meets %.3g%s: raise --halvings%s, or try other --integrators\n", tolerance,
+                     budget_spent ? " within the budget" : "", budget_spent ? " or --budget" : "");
+  }
+  report.publish(format("%s on %s at t = %g s: the cheapest step within %.3g, reference %s\n%s\n", o.quantity.c_str(),
+                        base.name.c_str(), t_end, tolerance, reference_json["kind"].get<std::string>().c_str(),
+                        chaotic ? format("ensembles of %d members and more where a verdict needed them (up to %d; "
+                                         "ensemble_member = 0, 1, ...); bias against %s at %.4g s, paired seed by seed "
+                                         "(paired t test), %g %% intervals; meets: the whole interval within the tolerance\n",
+                                         first_members, max_members, reference_point.integrator.c_str(),
+                                         reference_point.dt, 100 * ensemble.level)
+                                      .c_str()
+                                : ""),
+                 "\n" + ends + verdict + format("probe cost: %.3g CPU seconds of runs; not tried: %zu other integrators, "
+                                                 "adaptive stepping\n",
+                                                 spent, others.size()),
+                 o.out_dir, o.quiet);
+  return out;
+}
+
+}  // namespace kiln
