@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Regenerates docs/studies.md and its plots from the study commands. Every number in it is what
 # the commands printed (the closing commentary, scripts/studies_reading.md, is written by hand).
-# Usage: scripts/studies.sh [path/to/kiln]   (about 13 minutes on 2 cores)
+# Usage: scripts/studies.sh [path/to/kiln]   (about 45 minutes on 2 cores)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 kiln=${1:-./build/kiln}
@@ -75,8 +75,8 @@ run "T4" wp-t4 \
   "$kiln" wp cases/t4_two_particle_conduction.yaml --integrators velocity-verlet,erk4,imex4 --dts 0.004,0.002,0.001,0.0005 --quantity temperature
 run "F1 (fine reference)" wp-f1 \
   "$kiln" wp cases/f1_chain_slab.yaml --integrators velocity-verlet,erk4,imex4 --dts 0.004,0.002,0.001 --quantity temperature --reference fine --t-end 1
-run "T3 (100 discs): heap angle, ensemble of 4 fills" wp-t3 \
-  "$kiln" wp cases/t3_heap.yaml --integrators velocity-verlet,erk2 --dts 1.6e-5,8e-6,4e-6 --quantity heap_angle_deg --seeds 4 --t-end 1 --repeats 1 --set particles.0.fill.count=100
+run "T3 (100 discs): heap angle, ensembles of 8 members" wp-t3 \
+  "$kiln" wp cases/t3_heap.yaml --integrators velocity-verlet,erk2 --dts 1.6e-5,8e-6,4e-6 --quantity heap_angle_deg --seeds 8 --t-end 1 --repeats 1 --set particles.0.fill.count=100
 {
   echo "## IMEX at large steps"
   echo
@@ -112,7 +112,7 @@ boundaries() {  # boundaries TITLE SCENE DTMIN DTMAX QUANTITY "SETS..." SCHEME..
 boundaries "N2 reduced (720 stiff Hertz steel discs settling, 5 ms)" cases/n2_heated_steel_bed.yaml 1e-6 3e-5 position \
   "--t-end 0.005 --set freeze=null" verlet velocity-verlet erk2 erk4 erk5
 run "N2 reduced: mean temperature after 30 min (settle, freeze, heat), ensemble of 4 jittered lattices" wp-n2 \
-  "$kiln" wp cases/n2_heated_steel_bed.yaml --integrators erk4,velocity-verlet,erk2 --dts 4e-6,2e-6 --quantity temperature_mean --seeds 4 --seed-key particles.0.lattice.seed --repeats 1 --set particles.0.lattice.jitter=4e-10
+  "$kiln" wp cases/n2_heated_steel_bed.yaml --integrators erk4,velocity-verlet,erk2 --dts 4e-6,2e-6 --quantity temperature_mean --seeds 4 --repeats 1 --set particles.0.lattice.jitter=4e-10
 boundaries "P1 fine powder (200 copper discs of 20 um, compacted and heated)" cases/p1_fine_powder_compaction.yaml 1e-6 1e-4 temperature_mean \
   "" velocity-verlet erk4 imex3 imex4
 run "P1 fine powder: temperatures at 12 ms (fine reference)" wp-p1 \
@@ -121,5 +121,51 @@ boundaries "T6 drum at 30 rpm (214 discs, first 0.2 s)" cases/t6_drum.yaml 1e-6 
   "--t-end 0.2" verlet velocity-verlet erk2 erk4
 run "T6 drum at 30 rpm: temperature spread at 0.5 s, ensemble of 4 fills" wp-t6 \
   "$kiln" wp cases/t6_drum.yaml --integrators velocity-verlet,verlet,erk4 --dts 1e-5,5e-6 --quantity temperature_std --seeds 4 --t-end 0.5 --repeats 1
+{
+  echo "## Ensembles and kiln recommend"
+  echo
+  echo "Statistics of chaotic flows (README, Studies: ensembles): each point an ensemble of members"
+  echo "(ensemble_member = 0, 1, ...), its bias against the reference tested seed by seed (paired t),"
+  echo "95 % intervals. First a smooth case whose answer theory gives, then the standard cases, reduced"
+  echo "where a full run would take minutes (the reductions are in each command)."
+  echo
+} >> "$doc"
+run "T3 (100 discs): the largest step whose heap angle is within 1 degree" sweep-t3-seeds \
+  "$kiln" sweep cases/t3_heap.yaml --integrator velocity-verlet --dt-min 5e-6 --dt-max 8e-5 --points 5 --quantity heap_angle_deg --seeds 8 --tolerance 1 --t-end 1 --set particles.0.fill.count=100
+run "Harmonic contact (exact): 1e-10 m, where theory makes the fourth-order table cheapest" recommend-harmonic-tight \
+  "$kiln" recommend cases/harmonic_contact_pair.yaml --quantity position --tolerance 1e-10 --threads 1
+run "Harmonic contact (exact): 1e-6 m, where one force per step wins" recommend-harmonic-loose \
+  "$kiln" recommend cases/harmonic_contact_pair.yaml --quantity position --tolerance 1e-6 --threads 1
+for tol in 2 1 0.5; do
+  run "T3 (100 discs): heap angle within $tol degree(s)" "recommend-t3-$tol" \
+    "$kiln" recommend cases/t3_heap.yaml --quantity heap_angle_deg --tolerance "$tol" --halvings 4 --t-end 1 --set particles.0.fill.count=100
+done
+run "T6 drum at 30 rpm: dynamic angle of repose within 1 degree (first 0.6 s)" recommend-t6 \
+  "$kiln" recommend cases/t6_drum.yaml --quantity dynamic_angle_of_repose_deg --tolerance 1 --halvings 4 --t-end 0.6
+run "C3 hopper: discharge rate within 0.002 kg/s" recommend-c3 \
+  "$kiln" recommend cases/c3_hopper.yaml --quantity discharge_rate --tolerance 0.002 --halvings 3
+run "N3 shear cell: effective friction within 0.02 (first 0.2 s)" recommend-n3 \
+  "$kiln" recommend cases/n3_shear_cell.yaml --quantity effective_friction --tolerance 0.02 --halvings 3 --t-end 0.2
+{
+  echo "### What the probes cost"
+  echo
+  echo "From each recommend.json: the tolerance asked, the choice, the members of the chosen step's"
+  echo "ensemble and the largest ensemble any probe needed, and the CPU seconds of all the probe's runs."
+  echo
+  echo "| case | quantity | tolerance | recommended | members (chosen, largest) | probe CPU s |"
+  echo "|---|---|---:|---|---:|---:|"
+  for dir in "$out"/recommend-*; do
+    /usr/bin/python3 - "$dir/recommend.json" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[1]))
+r = s.get("recommendation")
+members = [p.get("members", 1) for p in s["probes"]]
+chosen = next((p.get("members", 1) for p in s["probes"] if r and p["integrator"] == r["integrator"] and p["dt"] == r["dt"]), "-")
+pick = f"{r['integrator']} at {r['dt']:.3g} s" if r else "none met it"
+print(f"| {s['scene']} | {s['quantity']} | {s['tolerance']:g} | {pick} | {chosen}, {max(members)} | {s['cpu_seconds']:.3g} |")
+PY
+  done
+  echo
+} >> "$doc"
 cat scripts/studies_reading.md >> "$doc"
 mv "$doc" docs/studies.md

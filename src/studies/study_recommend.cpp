@@ -60,6 +60,9 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
     throw InputError("--halvings: a whole number in [1, 20] is needed, got " + std::to_string(o.halvings));
   if (!(o.budget >= 0)) throw InputError("--budget: CPU seconds, 0 (none) or more");
   for (const std::string& name : o.integrators) make_integrator(name);  // unknown names fail here
+  if (o.ensemble.automatic)
+    throw InputError("kiln recommend sizes its ensembles by its verdicts (8 members, grown where a verdict needs "
+                     "them, up to --max-seeds): give --seeds N for a fixed size, or neither");
   const double t_end = o.t_end > 0 ? o.t_end : base.t_end;
   const bool chaotic = !base.random_sources.empty() || o.ensemble.on();
   const EnsembleOptions& ensemble = o.ensemble;
