@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <catch2/catch.hpp>
@@ -158,5 +159,20 @@ inline std::vector<std::string> verlet_family() { return {"verlet", "velocity-ve
 
 // Observed order from errors at step sizes h and h/2.
 inline double order(double e_coarse, double e_fine) { return std::log(e_coarse / e_fine) / std::log(2.0); }
+
+// The kiln binary run by the shell with `arguments`, its standard output and error into `log`:
+// the exit status (-1 when a signal ended it) and what it printed.
+struct CommandOutcome {
+  int status = -1;
+  std::string output;
+};
+inline CommandOutcome run_kiln_command(const std::string& arguments, const std::filesystem::path& log) {
+  const std::string cmd = std::string(KILN_BINARY) + " " + arguments + " > " + log.string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  std::ifstream in(log);
+  std::stringstream text;
+  text << in.rdbuf();
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
+}
 
 }  // namespace kiln::testing

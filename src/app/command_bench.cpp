@@ -1,6 +1,7 @@
 // `kiln bench`: particle-steps per second on the benchmark pile (src/app/bench.h).
 #include "src/app/bench.h"
 #include "src/app/command.h"
+#include "src/app/command_options.h"
 
 namespace kiln {
 
@@ -28,7 +29,8 @@ class BenchCommand final : public Command {
           cli_->add_flag("--flowing", bench_.flowing, "tilt gravity 30 degrees toward +x"),
           cli_->add_flag("--thermal", bench_.thermal, "a hot and a cold half, heat conducted through the contacts"),
           cli_->add_option("--integrator", bench_.integrator,
-                           "integrator (see 'kiln integrators'; ARKODE at the fixed dt)")})
+                           "integrator (see 'kiln integrators'; ARKODE at the fixed dt)")
+              ->check(integrator_name)})
       timing->excludes(write_pile);
   }
   int run() override { return run_bench(bench_); }

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "integrators/integrator.h"
+#include "src/base/error.h"
 #include "src/scene/overrides.h"
 #include "src/scene/scene_yaml.h"
 
@@ -19,6 +20,17 @@ const CLI::Validator positive_finite(
       return "must be a positive finite number, got '" + text + "'";
     },
     "POSITIVE");
+
+const CLI::Validator integrator_name(
+    [](std::string& text) {
+      try {
+        integrator_info(text);
+      } catch (const InputError& e) {
+        return std::string(e.what());
+      }
+      return std::string();
+    },
+    "NAME");
 
 std::vector<std::string> overrides_of(const SceneArgs& a) {
   std::vector<std::string> sets = a.sets;
@@ -39,7 +51,7 @@ Scene load(const SceneArgs& a) {
 
 void add_scene_options(CLI::App* cmd, SceneArgs& a) {
   cmd->add_option("scene", a.path, "scene file (YAML)")->check(CLI::ExistingFile);
-  cmd->add_option("--integrator", a.integrator, "integrator name (see 'kiln integrators')");
+  cmd->add_option("--integrator", a.integrator, "integrator name (see 'kiln integrators')")->check(integrator_name);
   cmd->add_option("--dt", a.dt, "time step (s)")->check(positive_finite);
   cmd->add_option("--t-end", a.t_end, "end time (s)")->check(positive_finite);
   cmd->add_option("--rtol", a.rtol, "relative tolerance: adaptive steps from --dt (erk:/imex: methods)")

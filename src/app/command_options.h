@@ -13,6 +13,9 @@ namespace kiln {
 // A time, a step or a tolerance: a positive finite number. CLI11's PositiveNumber accepts "nan"
 // (which then was ignored) and states its range as 300 digits.
 extern const CLI::Validator positive_finite;
+// An integrator's name (aliases included), refused at its option with the valid names nearest
+// first: a typo in --integrator was reported as "--set: key 'integrator'".
+extern const CLI::Validator integrator_name;
 
 struct SceneArgs {
   std::string path;

@@ -85,7 +85,8 @@ std::unique_ptr<Command> add_order_command(CLI::App& app) {
   OrderOptions& o = command->options();
   cli->add_option("--integrators", o.integrators, "comma-separated names (see 'kiln integrators')")
       ->required()
-      ->delimiter(',');
+      ->delimiter(',')
+      ->check(integrator_name);
   cli->add_option("--dt", o.dt, "the coarsest step (s)")->required()->check(positive_finite);
   cli->add_option("--levels", o.levels, "number of step sizes")->check(CLI::Range(2, 30));
   cli->add_option("--ratio", o.ratio, "dt_{k+1} = dt_k / ratio (default 2)")->check(CLI::Range(1.01, 1000.0));
@@ -98,7 +99,7 @@ std::unique_ptr<Command> add_sweep_command(CLI::App& app) {
       app, "sweep", "time-step sensitivity and stability boundary (sweep.json, .csv, .png)", run_sweep_study);
   CLI::App* cli = command->cli();
   SweepOptions& o = command->options();
-  cli->add_option("--integrator", o.integrator, "integrator name")->required();
+  cli->add_option("--integrator", o.integrator, "integrator name")->required()->check(integrator_name);
   cli->add_option("--dt-min", o.dt_min, "smallest step (s)")->required()->check(positive_finite);
   cli->add_option("--dt-max", o.dt_max, "largest step (s)")->required()->check(positive_finite);
   cli->add_option("--points", o.points, "steps, log-spaced")->check(CLI::Range(2, 200));
@@ -111,7 +112,7 @@ std::unique_ptr<Command> add_wp_command(CLI::App& app) {
       app, "wp", "work-precision: error against cost (wp.json, .csv, .png)", run_work_precision);
   CLI::App* cli = command->cli();
   WorkPrecisionOptions& o = command->options();
-  cli->add_option("--integrators", o.integrators, "comma-separated names")->required()->delimiter(',');
+  cli->add_option("--integrators", o.integrators, "comma-separated names")->required()->delimiter(',')->check(integrator_name);
   cli->add_option("--dts", o.dts, "fixed steps (s)")->delimiter(',')->check(positive_finite);
   cli->add_option("--rtols", o.rtols, "tolerances (adaptive)")->delimiter(',')->check(positive_finite);
   add_reference_options(cli, o, "analytic | fine");
@@ -127,7 +128,9 @@ std::unique_ptr<Command> add_recommend_command(CLI::App& app) {
   RecommendOptions& o = command->options();
   cli->add_option("--quantity", o.quantity, "the quantity (a case number, or position, velocity, temperature)")
       ->required();
-  cli->add_option("--integrators", o.integrators, "candidates (default velocity-verlet,erk2,erk4)")->delimiter(',');
+  cli->add_option("--integrators", o.integrators, "candidates (default velocity-verlet,erk2,erk4)")
+      ->delimiter(',')
+      ->check(integrator_name);
   cli->add_option("--budget", o.budget, "CPU seconds for the probe's runs (default: none)")->check(positive_finite);
   cli->add_option("--halvings", o.halvings, "steps probed per candidate, from 0.9 of its limit (default 6)")
       ->check(CLI::Range(1, 20));

@@ -1,7 +1,5 @@
 // `kiln bench` as bench/run.sh calls it: a pile written, then timed, the machine-readable line
 // complete. Nothing here depends on how fast anything runs.
-#include <sys/wait.h>
-
 #include <map>
 
 #include "src/scene/particle_file.h"
@@ -11,19 +9,8 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Command {
-  int status = -1;
-  std::string output;
-};
-
-Command run(const std::string& arguments, const fs::path& log) {
-  const std::string cmd = std::string(KILN_BINARY) + " " + arguments + " > " + log.string() + " 2>&1";
-  const int status = std::system(cmd.c_str());
-  std::ifstream in(log);
-  std::stringstream text;
-  text << in.rdbuf();
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, text.str()};
-}
+using Command = kiln::testing::CommandOutcome;
+Command run(const std::string& arguments, const fs::path& log) { return kiln::testing::run_kiln_command(arguments, log); }
 
 // The fields of the line "kiln-bench: key=value ..." (empty when there is none).
 std::map<std::string, std::string> bench_fields(const std::string& output) {

@@ -1,0 +1,27 @@
+// What the command line refuses, and where it says the fault is: at the option the user typed.
+#include "tests/support.h"
+
+namespace {
+
+bool has(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+}  // namespace
+
+TEST_CASE("an unknown integrator is refused at the option that named it, with the nearest names first", "[errors]") {
+  const auto dir = kiln::testing::fresh_dir("command_line");
+  std::filesystem::create_directories(dir);
+  const std::string scene = kiln::testing::case_path("t1_free_fall.yaml");
+  // It was "--set: key 'integrator'" (the option becomes an override), naming an option not typed.
+  const auto check = kiln::testing::run_kiln_command("check " + scene + " --integrator erk44", dir / "log");
+  CHECK(check.status != 0);
+  CHECK(has(check.output, "--integrator: unknown integrator 'erk44'; valid names are 'erk4'"));
+  CHECK_FALSE(has(check.output, "--set"));
+  for (const std::string& study : {"order " + scene + " --integrators erk4,verlt --dt 1e-4 --levels 2",
+                                   "sweep " + scene + " --integrator verlt --dt-min 1e-5 --dt-max 1e-4",
+                                   "recommend " + scene + " --quantity position --tolerance 1 --integrators verlt"}) {
+    INFO(study);
+    const auto out = kiln::testing::run_kiln_command(study, dir / "log");
+    CHECK(out.status != 0);
+    CHECK(has(out.output, "unknown integrator 'verlt'; valid names are 'verlet'"));
+  }
+}
