@@ -46,6 +46,7 @@ class StudyCommand final : public Command {
   // from here on goes through finish_ranks (main's too), so that no rank waits for one that has failed.
   int run() override {
     o_.ensemble = ensemble_options(seeds_, se_, max_seeds_, level_, tolerance_);
+    o_.ensemble.level_given = cli_->count("--level") > 0;
     start_ranks();
     if (o_.out_dir.empty()) o_.out_dir = "out/" + load_scene(o_.scene, o_.sets).name + "/" + name_;
     if (this_rank() != 0) {

@@ -46,6 +46,13 @@ EnsembleOptions ensemble_options(const std::string& seeds, double se, int max_se
   return o;
 }
 
+void require_seeds_for_statistics(const EnsembleOptions& o) {
+  if (o.on()) return;
+  if (o.level_given) throw InputError("--level is the confidence level of ensemble statistics: give --seeds N or --seeds auto");
+  if (o.tolerance > 0)
+    throw InputError("--tolerance judges the bias of ensemble means: give --seeds N or --seeds auto with it");
+}
+
 void check_ensemble(const Scene& scene, const std::string& quantity) {
   if (scene.random_sources.empty())
     throw InputError("scene '" + scene.name +
@@ -114,14 +121,25 @@ std::vector<double> member_values(const std::vector<StudyRun>& members) {
 
 std::string member_failure(const std::vector<StudyRun>& members, bool* unstable) {
   if (unstable) *unstable = false;
-  for (const StudyRun& r : members) {
-    if (!r.failure.empty()) {
-      if (unstable) *unstable = r.unstable;
-      return r.failure;
+  for (size_t m = 0; m < members.size(); ++m)
+    if (!members[m].failure.empty()) {
+      if (unstable) *unstable = members[m].unstable;
+      return format("member %zu: %s", m, members[m].failure.c_str());
     }
-    if (r.value.empty() || !std::isfinite(r.value.front())) return "the quantity was not measured";
-  }
   return "";
+}
+
+std::string member_unmeasured(const std::vector<StudyRun>& members, const std::string& quantity) {
+  for (size_t m = 0; m < members.size(); ++m)
+    if (members[m].failure.empty() && (members[m].value.empty() || !std::isfinite(members[m].value.front())))
+      return format("%s not measured by member %zu (at dt = %g s; a longer --t-end may reach it)", quantity.c_str(), m,
+                    members[m].dt);
+  return "";
+}
+
+std::string member_problem(const std::vector<StudyRun>& members, const std::string& quantity) {
+  const std::string failure = member_failure(members);
+  return failure.empty() ? member_unmeasured(members, quantity) : failure;
 }
 
 namespace {

@@ -25,8 +25,13 @@ struct EnsembleOptions {
   double level = 0.95;     // --level: confidence level of every interval and test
   double power = 0.8;      // the power at which the smallest detectable bias is stated
   double tolerance = 0;    // --tolerance: the bias the user accepts (the quantity's unit); 0: none
+  bool level_given = false;  // --level was given
   bool on() const { return seeds > 0 || automatic; }
 };
+
+// order, sweep and wp: --level and --tolerance judge ensembles, and are refused without --seeds
+// (they were taken and ignored).
+void require_seeds_for_statistics(const EnsembleOptions& options);
 
 // The --seeds, --se, --max-seeds, --level and --tolerance options as given, checked together:
 // "auto" needs --se; a number needs no --se; two members at least (one has no spread).
@@ -64,10 +69,17 @@ struct Growth {
 };
 void grow_ensembles(const std::vector<Growth>& grow, const std::function<void(std::vector<StudyRun>&)>& run);
 
-// The values of a point's members (the first number of each), or empty when a member failed.
+// The values of a point's members (the first number of each), or empty when a member failed or
+// did not measure the quantity.
 std::vector<double> member_values(const std::vector<StudyRun>& members);
-// The first failure of a point's members ("" when none failed), and whether it was a stability check.
+// The first run failure of a point's members, naming the member ("" when every run ended), and
+// whether it was a stability check.
 std::string member_failure(const std::vector<StudyRun>& members, bool* unstable = nullptr);
+// Why a point whose runs all ended has no values: the first member that did not measure the
+// quantity (a heap not yet formed, a window not yet reached), or "".
+std::string member_unmeasured(const std::vector<StudyRun>& members, const std::string& quantity);
+// Either of the two, the run failure first.
+std::string member_problem(const std::vector<StudyRun>& members, const std::string& quantity);
 
 nlohmann::json ensemble_json(const Ensemble& e);
 nlohmann::json bias_json(const Bias& b, double tolerance);

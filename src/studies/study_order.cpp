@@ -31,6 +31,7 @@ nlohmann::json run_order_study(const OrderOptions& o_in) {
                      choices_nearest_first(o.reference, {"analytic", "richardson", "fine"}));
   check_quantity(base, o.quantity);
   for (const std::string& name : o.integrators) make_integrator(name);  // unknown names fail here
+  require_seeds_for_statistics(o.ensemble);
   if (o.ensemble.on()) return run_order_ensemble(o, base, t_end);
 
   // The reference: none for Richardson, which compares successive levels.

@@ -20,7 +20,9 @@ nlohmann::json run_order_ensemble(const OrderOptions& o, const Scene& base, doub
     run_study(o.scene, o.sets, t_end, o.quantity, batch, o.threads, o.quiet, o.heat_stage);
   });
   const std::vector<double> reference = member_values(runs.points.front());
-  if (reference.empty()) throw StudyError("an ensemble reference run failed: " + member_failure(runs.points.front()));
+  if (reference.empty())
+    throw StudyError(format("the reference ensemble (%s at %g s): ", o.integrators.front().c_str(), finest) +
+                     member_problem(runs.points.front(), o.quantity));
 
   StudyReport report("order", study_header(base, o.quantity, "ensemble", t_end));
   nlohmann::json& out = report.json();
@@ -32,32 +34,31 @@ nlohmann::json run_order_ensemble(const OrderOptions& o, const Scene& base, doub
   for (size_t i = 0; i < o.integrators.size(); ++i) {
     const std::string& name = o.integrators[i];
     nlohmann::json entry = {{"name", name}, {"nominal_order", nominal_order(name)}};
-    std::vector<double> dts, biases, ses;
-    std::vector<bool> resolved;
-    nlohmann::json statistics = nlohmann::json::array();
+    // A level whose runs failed or did not measure the quantity is left out and named; the others
+    // are read (one unmeasured member discarded the whole ladder).
+    std::vector<double> dts, biases(o.levels, NAN), ses(o.levels, NAN);
+    std::vector<bool> resolved(o.levels, false);
+    std::vector<std::string> left_out(o.levels);
+    nlohmann::json statistics = nlohmann::json::array(), left = nlohmann::json::array();
     report.table("%s (nominal order %d)\n        dt            mean          bias   +- interval   order\n",
                  name.c_str(), nominal_order(name));
-    std::string failure;
     for (int level = 0; level < o.levels; ++level) {
       const std::vector<StudyRun>& members = runs.points[1 + i * o.levels + level];
       const std::vector<double> values = member_values(members);
       dts.push_back(members.front().dt);
       if (values.empty()) {
-        failure = format("dt = %g: %s", dts.back(), member_failure(members).c_str());
-        break;
+        left_out[level] = member_problem(members, o.quantity);
+        left.push_back({{"dt", dts.back()}, {"reason", left_out[level]}});
+        statistics.push_back(nullptr);
+        continue;
       }
       const Bias bias = paired_bias(values, reference, e.level, e.power);
-      biases.push_back(bias.estimate);
-      ses.push_back(bias.se);
-      resolved.push_back(bias.detected());
+      biases[level] = bias.estimate;
+      ses[level] = bias.se;
+      resolved[level] = bias.detected();
       statistics.push_back({{"ensemble", ensemble_json(ensemble_of(values, e.level))}, {"bias", bias_json(bias, 0)}});
     }
-    if (!failure.empty()) {
-      entry["failure"] = failure;
-      out["integrators"].push_back(entry);
-      report.table("  failed: %s\n\n", failure.c_str());
-      continue;
-    }
+    if (!left.empty()) entry["left_out"] = left;
     // An order between two levels only where both biases are detected: the log of an interval
     // that holds zero is no number. Its standard error by the delta method (the two levels' biases
     // taken as independent, which overstates it where they share seeds' noise).
@@ -79,16 +80,19 @@ nlohmann::json run_order_ensemble(const OrderOptions& o, const Scene& base, doub
     }
     const double slope = n >= 2 ? (n * sxy - sx * sy) / (n * sxx - sx * sx) : NAN;
     const int detected = static_cast<int>(n);
-    const double smallest = statistics.back()["bias"]["smallest_detectable"].is_number()
-                                ? statistics.back()["bias"]["smallest_detectable"].get<double>()
-                                : NAN;
+    double smallest = NAN;  // at the finest level that was measured
+    for (const auto& st : statistics)
+      if (!st.is_null() && st["bias"]["smallest_detectable"].is_number())
+        smallest = st["bias"]["smallest_detectable"].get<double>();
     const std::string verdict =
         detected >= 2
             ? format("fitted order %.2f over the %d levels whose bias is detected (nominal %d)", slope, detected,
                      nominal_order(name))
-            : format("not resolved: the bias is detected at %d of %d levels (the smallest this ensemble detects at "
-                     "the finest: %.2g): more members (--seeds auto --se %.2g) or coarser steps",
-                     detected, o.levels, smallest, smallest / 4);
+            : std::isfinite(smallest)
+                ? format("not resolved: the bias is detected at %d of %d levels (the smallest this ensemble detects at "
+                         "the finest: %.2g): more members (--seeds auto --se %.2g) or coarser steps",
+                         detected, o.levels, smallest, smallest / 4)
+                : std::string("no level measured the quantity: see the levels left out");
     entry["dt"] = dts;
     entry["statistics"] = statistics;
     entry["observed_orders"] = orders;
@@ -98,6 +102,10 @@ nlohmann::json run_order_ensemble(const OrderOptions& o, const Scene& base, doub
     entry["verdict"] = verdict;
     out["integrators"].push_back(entry);
     for (int k = 0; k < o.levels; ++k) {
+      if (!left_out[k].empty()) {
+        report.table("  %12.4e   left out: %s\n", dts[k], left_out[k].c_str());
+        continue;
+      }
       const auto& st = statistics[k];
       const auto& b = st["bias"];
       const double lo = b["interval"][0].get<double>(), hi = b["interval"][1].get<double>();

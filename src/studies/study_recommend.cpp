@@ -18,9 +18,14 @@ namespace {
 
 struct Candidate {
   std::string name;
-  double limit = INFINITY;  // its stability limit on the scene (s)
+  StabilityEstimate start;  // the estimate at t = 0
+  double limit = INFINITY;  // its stability limit: at t = 0, then also on the first run's end state (s)
+  std::string limit_state = "the state at t = 0";
   bool conduction = false;  // conduction's limit binds
   double first = 0;         // the first step probed (s)
+  double next = 0;          // the next step to probe (s)
+  int probed = 0;
+  int pending = -1;         // a probe that met the tolerance, waiting for its half step to confirm it
   bool live = true;
   std::string stopped;      // why its probe ended
 };
@@ -32,6 +37,7 @@ struct Probe {
   double error = NAN;             // |difference| (plus the reference's accuracy), or |bias|
   Bias bias;                      // chaotic scenes
   bool meets = false, unstable = false;
+  bool confirmed = false;  // it met the tolerance and so did its half step: it may be recommended
   std::string failure;
   double seconds = 0;  // one run's wall time (an ensemble's mean)
   int members = 1;
@@ -75,11 +81,13 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
   for (const std::string& name : o.integrators) {
     Candidate c;
     c.name = name;
-    const StudyLimit limit = study_limit(estimate_stability(base, o.heat_stage ? "" : name), base, name, o.heat_stage);
+    c.start = estimate_stability(base, o.heat_stage ? "" : name);
+    const StudyLimit limit = study_limit(c.start, base, name, o.heat_stage);
     c.limit = limit.dt;
     c.conduction = limit.conduction;
     // No limit (nothing touches, nothing conducts): from 16 of the scene's steps, and a run of 4 steps at least.
     c.first = std::min(std::isfinite(c.limit) ? 0.9 * c.limit : 16 * base.dt, t_end / 4);
+    c.next = c.first;
     candidates.push_back(c);
   }
   auto run = [&](std::vector<StudyRun>& batch) {
@@ -118,7 +126,10 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
   auto bias_of = [&](const std::vector<StudyRun>& runs) {
     const std::vector<double> values = member_values(runs);
     std::vector<double> ref = member_values(reference_members);
-    if (ref.empty()) throw StudyError("the reference ensemble failed: " + member_failure(reference_members));
+    if (ref.empty())
+      throw StudyError(format("the reference ensemble (%s at %g s): ", reference_point.integrator.c_str(),
+                              reference_point.dt) +
+                       member_problem(reference_members, o.quantity));
     ref.resize(values.size());
     return paired_bias(values, ref, ensemble.level, ensemble.power);
   };
@@ -156,13 +167,15 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
   std::vector<Probe> probes;
   double best_cost = INFINITY;
   bool budget_spent = false;
-  for (int round = 0; round < o.halvings; ++round) {
+  for (;;) {
     std::vector<size_t> who;
     std::vector<StudyRun> points;
     for (size_t c = 0; c < candidates.size(); ++c)
       if (candidates[c].live) {
         who.push_back(c);
-        points.emplace_back(candidates[c].name, candidates[c].first / std::pow(2.0, round));
+        points.emplace_back(candidates[c].name, candidates[c].next);
+        // The first run's end state may bind below t = 0's (a heap settled, a drum's bed formed).
+        points.back().limit_at_end = candidates[c].probed == 0 && !o.heat_stage;
       }
     if (points.empty()) break;
     if (o.budget > 0 && spent >= o.budget) {
@@ -189,8 +202,24 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
       Probe p;
       p.integrator = c.name;
       p.dt = runs.front().dt;
+      c.next = p.dt / 2;
+      if (c.probed++ == 0 && runs.front().at_end.is_object()) {
+        const MechanicalLimit end = limit_of_json(runs.front().at_end);
+        const StudyLimit joined = study_limit(with_state(c.start, end), base, c.name, o.heat_stage);
+        if (joined.dt < c.limit) {
+          c.limit = joined.dt;
+          c.conduction = joined.conduction;
+          c.limit_state = format("the end of its first run (dt = %g s)", p.dt);
+          c.next = std::min(c.next, 0.9 * c.limit);
+        }
+      }
       p.fraction = p.dt / c.limit;
       p.failure = member_failure(runs, &p.unstable);
+      if (p.failure.empty() && p.fraction > 0.9 * (1 + 1e-9))
+        p.failure = format("beyond 0.9 of the stability limit on %s, %.4g s: never recommended", c.limit_state.c_str(),
+                           c.limit);
+      else if (p.failure.empty() && member_values(runs).empty())
+        p.failure = member_unmeasured(runs, o.quantity);
       p.seconds = mean_of(runs, &StudyRun::seconds);
       p.members = static_cast<int>(runs.size());
       for (const StudyRun& r : runs) {
@@ -206,24 +235,34 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
           p.error = max_abs_difference(runs.front().value, reference) + reference_accuracy;
           p.meets = p.error <= tolerance;
         }
-      } else if (!p.unstable) {  // an error, not the step: halving would not cure it
-        c.live = false;
-        c.stopped = "a run failed: " + p.failure;
-      }
-      if (p.meets) {
-        c.live = false;
-        c.stopped = "met the tolerance (smaller steps cost more)";
-        best_cost = std::min(best_cost, p.seconds);
       }
       probes.push_back(p);
-    }
-    // A halving doubles a run's cost: a candidate whose next step costs more than the best found stops.
-    for (size_t k = 0; k < who.size(); ++k) {
-      Candidate& c = candidates[who[k]];
-      if (c.live && round + 1 == o.halvings) {
+      // A step is recommended only when its half step meets the tolerance too: an error that
+      // happens to be small at t_end (a harmonic contact's phase) is no error that falls with dt.
+      if (p.meets && c.pending >= 0) {
+        probes[c.pending].confirmed = true;
+        best_cost = std::min(best_cost, probes[c.pending].seconds);
         c.live = false;
-        c.stopped = format("%d halvings probed without meeting the tolerance", o.halvings);
-      } else if (c.live && 2 * probes[probes.size() - who.size() + k].seconds > best_cost) {
+        c.stopped = format("met the tolerance at %g s and at its half (smaller steps cost more)", probes[c.pending].dt);
+      } else if (p.meets) {
+        c.pending = static_cast<int>(probes.size()) - 1;
+      } else {
+        c.pending = -1;
+        if (!p.failure.empty() && !p.unstable && p.failure.rfind("beyond", 0) != 0) {
+          c.live = false;  // an error, not the step: halving would not cure it
+          c.stopped = p.failure;
+        }
+      }
+      if (!c.live) continue;
+      // A halving doubles a run's cost: a candidate whose next step costs more than the best found
+      // stops (a pending one runs its confirmation whatever it costs).
+      if (c.pending < 0 && c.probed >= o.halvings) {
+        c.live = false;
+        c.stopped = format("%d steps probed without meeting the tolerance", o.halvings);
+      } else if (c.pending >= 0 && c.probed > o.halvings) {
+        c.live = false;
+        c.stopped = "met the tolerance at its finest step, which its half step could not confirm: more --halvings";
+      } else if (c.pending < 0 && 2 * p.seconds > best_cost) {
         c.live = false;
         c.stopped = "its next step would cost more than the cheapest step that meets the tolerance";
       }
@@ -231,9 +270,16 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
   }
 
   // The recommendation: the cheapest step that meets the tolerance.
+  // Costs within a tenth of each other are a tie (one wall-time sample each): fewer forces win it.
   const Probe* chosen = nullptr;
+  auto cheaper = [](const Probe& a, const Probe& b) {
+    return std::abs(a.seconds - b.seconds) <= 0.1 * std::max(a.seconds, b.seconds) ? a.rhs < b.rhs : a.seconds < b.seconds;
+  };
   for (const Probe& p : probes)
-    if (p.meets && (!chosen || p.seconds < chosen->seconds)) chosen = &p;
+    if (p.confirmed && (!chosen || cheaper(p, *chosen))) chosen = &p;
+  const Probe* closest = nullptr;  // the smallest error reached, for the answer when none met
+  for (const Probe& p : probes)
+    if (p.failure.empty() && (!closest || p.error < closest->error)) closest = &p;
 
   if (chaotic) {
     reference_json["statistics"] = ensemble_json(ensemble_of(member_values(reference_members), ensemble.level));
@@ -254,12 +300,16 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
   for (const Probe& p : probes) {
     nlohmann::json j = {{"integrator", p.integrator}, {"dt", p.dt}, {"members", p.members},
                         {"fraction_of_limit", std::isfinite(p.fraction) ? nlohmann::json(p.fraction) : nlohmann::json(nullptr)},
-                        {"meets", p.meets}, {"seconds", p.seconds}, {"rhs_evals", std::lround(p.rhs)}};
+                        {"meets", p.meets}, {"confirmed", p.confirmed}, {"seconds", p.seconds},
+                        {"rhs_evals", std::lround(p.rhs)}};
     std::string error;
     if (!p.failure.empty()) {
       j["failure"] = p.failure;
       j["unstable"] = p.unstable;
-      error = p.unstable ? "unstable" : "failed";
+      error = p.unstable                          ? "unstable"
+              : p.failure.rfind("beyond", 0) == 0 ? "beyond the limit at its end"
+              : p.failure.find("not measured") != std::string::npos ? "not measured"
+                                                                       : "failed";
     } else {
       j["error"] = p.error;
       if (chaotic) {
@@ -271,7 +321,7 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
     }
     probes_json.push_back(j);
     report.table("  %-18s  %10.4e  %8.3f   %-30s  %-5s   %9.4g   %9ld\n", p.integrator.c_str(), p.dt, p.fraction,
-                 error.c_str(), p.meets ? "yes" : "no", p.seconds, std::lround(p.rhs));
+                 error.c_str(), p.confirmed ? "yes" : p.meets ? "yes*" : "no", p.seconds, std::lround(p.rhs));
     report.csv_row({p.integrator, csv_number(p.dt), csv_number(p.fraction), p.failure.empty() ? csv_number(p.error) : "",
                     p.meets ? "1" : "0", csv_number(p.seconds), std::to_string(std::lround(p.rhs))});
   }
@@ -280,7 +330,8 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
   std::string ends;
   for (const Candidate& c : candidates) {
     stops[c.name] = {{"stability_limit", std::isfinite(c.limit) ? nlohmann::json(c.limit) : nlohmann::json(nullptr)},
-                     {"limit_is_conduction", c.conduction}, {"first_dt", c.first}, {"stopped", c.stopped}};
+                     {"limit_state", c.limit_state}, {"limit_is_conduction", c.conduction}, {"first_dt", c.first},
+                     {"stopped", c.stopped}};
     ends += format("  %s: %s\n", c.name.c_str(), c.stopped.c_str());
   }
   out["candidates"] = stops;
@@ -297,26 +348,42 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
     out["recommendation"] = {{"integrator", chosen->integrator}, {"dt", chosen->dt},
                              {"fraction_of_limit", chosen->fraction}, {"error", chosen->error},
                              {"seconds_per_run", chosen->seconds}};
-    verdict = format("recommended: %s at dt = %.4g s (%.2f of its stability limit): %s %.3g within %.3g, %.3g s per run\n",
-                     chosen->integrator.c_str(), chosen->dt, chosen->fraction, chaotic ? "|bias|" : "error",
-                     chosen->error, tolerance, chosen->seconds);
+    const Candidate& c = *std::find_if(candidates.begin(), candidates.end(),
+                                       [&](const Candidate& k) { return k.name == chosen->integrator; });
+    verdict = format("recommended: %s at dt = %.4g s (%.2f of its stability limit on %s): %s %.3g within %.3g, and at "
+                     "its half step; %.3g s per run\n",
+                     chosen->integrator.c_str(), chosen->dt, chosen->fraction, c.limit_state.c_str(),
+                     chaotic ? "|bias|" : "error", chosen->error, tolerance, chosen->seconds);
   } else {
     out["recommendation"] = nullptr;
-    verdict = format("no probed scheme meets %.3g%s: raise --halvings%s, or try other --integrators\n", tolerance,
+    verdict = format("no probed scheme meets %.3g%s: raise --halvings%s, or try other --integrators", tolerance,
                      budget_spent ? " within the budget" : "", budget_spent ? " or --budget" : "");
+    if (closest)
+      verdict += format(" (the smallest error reached: %.3g, %s at %.4g s%s)", closest->error,
+                        closest->integrator.c_str(), closest->dt,
+                        chaotic ? "" : format("; the reference is good to %.2g", std::max(reference_accuracy, 1e-16)).c_str());
+    verdict += "\n";
   }
   report.publish(format("%s on %s at t = %g s: the cheapest step within %.3g, reference %s\n%s\n", o.quantity.c_str(),
                         base.name.c_str(), t_end, tolerance, reference_json["kind"].get<std::string>().c_str(),
-                        chaotic ? format("ensembles of %d members and more where a verdict needed them (up to %d; "
-                                         "ensemble_member = 0, 1, ...); bias against %s at %.4g s, paired seed by seed "
-                                         "(paired t test), %g %% intervals; meets: the whole interval within the tolerance\n",
-                                         first_members, max_members, reference_point.integrator.c_str(),
-                                         reference_point.dt, 100 * ensemble.level)
+                        chaotic ? format("%s (ensemble_member = 0, 1, ...); bias against %s at %.4g s (the finest "
+                                         "step of the highest-order candidate; its own bias is not measured), paired "
+                                         "seed by seed (paired t test), %g %% intervals; meets: the whole interval "
+                                         "within the tolerance\n",
+                                         first_members == max_members
+                                             ? format("ensembles of %d members", first_members).c_str()
+                                             : format("ensembles of %d members, grown where a verdict needed them (up "
+                                                      "to %d)",
+                                                      first_members, max_members)
+                                                   .c_str(),
+                                         reference_point.integrator.c_str(), reference_point.dt, 100 * ensemble.level)
                                       .c_str()
                                 : ""),
-                 "\n" + ends + verdict + format("probe cost: %.3g CPU seconds of runs; not tried: %zu other integrators, "
-                                                 "adaptive stepping\n",
-                                                 spent, others.size()),
+                 "\nyes*: met the tolerance, but its half step did not (or was not run): not recommended\n" + ends +
+                     verdict +
+                     format("probe cost: %.3g CPU seconds of runs; not tried: %zu other integrators, adaptive stepping, "
+                            "steps below each candidate's last\n",
+                            spent, others.size()),
                  o.out_dir, o.quiet);
   return out;
 }

@@ -1,21 +1,24 @@
 // `kiln recommend`: the cheapest integrator and step that give one quantity of a scene to a
 // tolerance, found by a short staged probe, with the table that justifies it and what it did not try.
 //
-// The probe. Each candidate integrator starts at 0.9 of its own stability limit on the scene
-// (src/run/stability.h: a step beyond it is never probed, so never recommended) and halves its
-// step, round by round, all candidates' runs of a round in parallel. A candidate stops once a step
-// meets the tolerance (smaller steps only cost more), once its next step would cost more than the
-// cheapest step found so far that meets it (a halving doubles the cost), after `halvings` steps,
-// or when the budget is spent. The error of a step is:
+// The probe. Each candidate starts at 0.9 of its own stability limit on the scene at t = 0
+// (src/run/stability.h) and halves its step, round by round, all candidates' runs of a round in
+// parallel. Its first run also measures the limit on its end state (a settled heap, a formed bed
+// binds below t = 0's): a step beyond 0.9 of the smaller limit is never recommended, and the probe
+// goes on from 0.9 of it. A step meets the tolerance when its error does and its half step's does
+// too (an error small by chance at t_end, as a harmonic contact's phase makes it, is not taken);
+// a candidate stops once a step is so confirmed, once its next step would cost more than the
+// cheapest confirmed step (a halving doubles the cost), after `halvings` steps, or when the budget
+// is spent. The error of a step is:
 //  - on a scene that declares nothing random: its difference from the exact value where one is
-//    registered, else from a fine adaptive run whose own accuracy is measured and added;
+//    registered, else from a fine adaptive run, plus that run's measured accuracy;
 //  - on a chaotic scene (one that declares a seed): the bias of its ensemble mean against the
-//    reference ensemble (the candidate of highest order at a quarter of its finest step),
-//    paired seed by seed; it meets the tolerance when its whole confidence interval lies within
-//    it. The members are as many as the reference's standard error asks for (--seeds auto with
-//    --se a quarter of the tolerance, unless --seeds says otherwise).
+//    reference ensemble (the highest-order candidate at its finest possible step, first / 2^halvings;
+//    that reference's own bias is not measured, and the output says so), paired seed by seed; it
+//    meets the tolerance when its whole confidence interval lies within it. Ensembles start with 8
+//    members (or --seeds N, fixed) and grow, with the reference's, only while a verdict is open.
 // The cost of a step is the wall time of one run on one thread (a single run of the scene at
-// that step is what a user pays for), measured once per run.
+// that step is what a user pays for); costs within a tenth are a tie, which fewer forces win.
 #pragma once
 #include <nlohmann/json.hpp>
 #include <string>

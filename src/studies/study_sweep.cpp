@@ -38,14 +38,15 @@ std::string ensemble_sweep(const SweepOptions& o, const std::vector<double>& dts
     for (size_t k = 0; k < dts.size(); ++k) {
       const std::vector<double> values = member_values(runs.points[k]);
       if (values.empty()) {
-        rows.push_back({{"dt", dts[k]}, {"failure", member_failure(runs.points[k])}});
-        text += format("  %12.4e   failed: %s\n", dts[k], member_failure(runs.points[k]).c_str());
+        const std::string why = member_problem(runs.points[k], quantities[qi]);
+        rows.push_back({{"dt", dts[k]}, {"failure", why}});
+        text += format("  %12.4e   %s\n", dts[k], why.c_str());
         within_so_far = false;
         continue;
       }
       const Ensemble stats = ensemble_of(values, e.level);
       nlohmann::json row = {{"dt", dts[k]}, {"ensemble", ensemble_json(stats)}};
-      std::string says = "(the reference)";
+      std::string says = k == 0 ? "(the reference)" : "(no reference: the smallest step has no values)";
       if (k > 0 && !reference.empty()) {
         const Bias bias = paired_bias(values, reference, e.level, e.power);
         row["bias"] = bias_json(bias, e.tolerance);
@@ -86,8 +87,7 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   const bool ensemble = o.ensemble.on();
   if (ensemble)
     for (const std::string& q : quantities) check_ensemble(base, q);
-  if (o.ensemble.tolerance > 0 && !ensemble)
-    throw InputError("--tolerance judges the bias of ensemble means: give --seeds N or --seeds auto with it");
+  require_seeds_for_statistics(o.ensemble);
 
   // One run per (dt, quantity); field quantities are reported as their difference from the
   // run at the smallest dt (the sensitivity of the result to the step).

@@ -19,6 +19,7 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
   check_quantity(base, o.quantity);
   if (o.dts.empty() == o.rtols.empty()) throw InputError("give either --dts or --rtols");
   const bool ensemble = o.ensemble.on();
+  require_seeds_for_statistics(o.ensemble);
   if (ensemble) {
     check_ensemble(base, o.quantity);
     o.reference = "ensemble";
@@ -54,7 +55,8 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
     members = run_ensembles(points, o.ensemble, run);
     reference_members = member_values(members.points.front());
     if (reference_members.empty())
-      throw StudyError("an ensemble reference run failed: " + member_failure(members.points.front()));
+      throw StudyError(format("the reference ensemble (%s at %g s): ", o.integrators.front().c_str(), finest) +
+                       member_problem(members.points.front(), o.quantity));
     reference = {ensemble_of(reference_members, o.ensemble.level).mean};
   } else {
     reference = study_reference(base, o.scene, o.sets, o.quantity, t_end, o.reference, base.dt, o.fine_rtol, o.heat_stage)
@@ -90,17 +92,21 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
           ensemble ? members.points[1 + i * settings.size() + k] : std::vector<StudyRun>{runs[i * settings.size() + k]};
       bool unstable = false;
       const std::string failure = member_failure(point, &unstable);
+      const std::string unmeasured = ensemble && failure.empty() ? member_unmeasured(point, o.quantity) : "";
       double wall = 0, rhs = 0;
       for (const StudyRun& r : point) {
         wall += r.seconds / point.size();  // cost of one run
         rhs += static_cast<double>(r.rhs_evals) / point.size();
       }
-      if (!failure.empty()) {
+      if (!failure.empty() || !unmeasured.empty()) {
         errors.push_back(nullptr);
         seconds.push_back(nullptr);
         evals.push_back(nullptr);
         statistics.push_back(nullptr);
-        report.table("  %12.4e   failed (%s)\n", settings[k], unstable ? "unstable" : "error");
+        if (unmeasured.empty())
+          report.table("  %12.4e   failed (%s: %s)\n", settings[k], unstable ? "unstable" : "error", failure.c_str());
+        else
+          report.table("  %12.4e   %s\n", settings[k], unmeasured.c_str());
         continue;
       }
       double e;

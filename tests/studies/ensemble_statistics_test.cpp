@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "src/studies/ensemble_statistics.h"
+#include "src/studies/study_ensemble.h"
 
 using namespace kiln;
 
@@ -143,4 +144,23 @@ TEST_CASE("an ensemble of one has a mean and no interval; mismatched pairs are r
   CHECK_THROWS(paired_bias({1, 2, 3}, {1, 2}, 0.95, 0.8));
   CHECK_THROWS(paired_bias({1, 2}, {1, 2}, 1.5, 0.8));
   CHECK(std::isnan(paired_bias({1}, {1}, 0.95, 0.8).low));
+}
+
+TEST_CASE("a member that did not measure the quantity is named as such, not as a failed run", "[ensemble]") {
+  // A step whose runs all ended is stable even when a quantity was not measured (a heap not yet
+  // formed): sweep called such steps failed, and order dropped the whole ladder.
+  std::vector<StudyRun> members(3, StudyRun("velocity-verlet", 1e-5));
+  members[0].value = {1.0};
+  members[1].value = {NAN};
+  members[2].value = {2.0};
+  bool unstable = true;
+  CHECK(member_failure(members, &unstable).empty());
+  CHECK_FALSE(unstable);
+  CHECK(member_unmeasured(members, "heap_angle_deg").rfind("heap_angle_deg not measured by member 1", 0) == 0);
+  CHECK(member_values(members).empty());
+  members[2].failure = "stopped: unstable";
+  members[2].unstable = true;
+  CHECK(member_problem(members, "q").rfind("member 2: stopped", 0) == 0);
+  CHECK(member_failure(members, &unstable) == "member 2: stopped: unstable");
+  CHECK(unstable);
 }

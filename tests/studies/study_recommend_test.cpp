@@ -41,10 +41,31 @@ TEST_CASE("recommend finds the fourth-order scheme cheapest at a tight tolerance
   }
 }
 
+TEST_CASE("recommend takes a step only when its half step meets the tolerance too, and one force per step wins a loose one",
+          "[study]") {
+  // At 1e-7 m velocity Verlet's 4.0e-4 s ends 1.4e-8 m off (the phase at t_end happens to match),
+  // its half step 3.5e-7 m: the coarse step was recommended before, by chance.
+  const nlohmann::json r = run_recommend(harmonic(1e-7));
+  REQUIRE(r["recommendation"].is_object());
+  CHECK(r["recommendation"]["integrator"] == "velocity-verlet");
+  CHECK(r["recommendation"]["dt"].get<double>() == Approx(1.0033e-4).epsilon(1e-3));
+  bool lucky_step_left = false;
+  for (const auto& p : r["probes"])
+    if (p["integrator"] == "velocity-verlet" && p["dt"].get<double>() > 4e-4)
+      lucky_step_left = p["meets"] == true && p["confirmed"] == false;
+  CHECK(lucky_step_left);
+  // Loose: velocity Verlet at 0.9 of its limit meets 1e-6 m, and so does its half step.
+  const nlohmann::json loose = run_recommend(harmonic(1e-6));
+  REQUIRE(loose["recommendation"].is_object());
+  CHECK(loose["recommendation"]["integrator"] == "velocity-verlet");
+  CHECK(loose["recommendation"]["fraction_of_limit"].get<double>() == Approx(0.9));
+}
+
 TEST_CASE("recommend says so when no probed scheme meets the tolerance, or the budget ends the probe", "[study]") {
   const nlohmann::json none = run_recommend(harmonic(1e-30));
   CHECK(none["recommendation"].is_null());
-  for (const auto& [name, c] : none["candidates"].items()) CHECK(c["stopped"].get<std::string>().find("halvings") != std::string::npos);
+  for (const auto& [name, c] : none["candidates"].items())
+    CHECK(c["stopped"].get<std::string>().find("steps probed without meeting") != std::string::npos);
   RecommendOptions o = harmonic(1e-14);
   o.budget = 1e-9;
   const nlohmann::json broke = run_recommend(o);
