@@ -27,6 +27,7 @@ class StructureWalk {
     if (++seen_ > max_values_)
       throw InputError(at(node, path), "the scene expands to more than " + std::to_string(max_values_) +
                                            " values: aliases (*name) repeat a part of it too often");
+    check_tag(node, path);
     if (!node.IsSequence() && !node.IsMap()) return;
     // An alias inside its own anchor ({<<: *base} in &base) makes a list or map that contains
     // itself: the walk would descend until the count above stopped it, thousands of levels down
@@ -66,6 +67,19 @@ class StructureWalk {
                                    "); YAML would keep only the first: remove one of them");
       visit(kv.second, join(path, key));  // the path below the origin: at() adds the origin's key once
     }
+  }
+  // Tags are honoured or refused, never ignored: the YAML core schema's own (a plain or quoted
+  // scalar has "?" or "!") are read as they say (a !!str or quoted number is text, which a number's
+  // key refuses); any other (!!binary, !!timestamp, !custom) is refused here, at its key.
+  void check_tag(const YAML::Node& node, const std::string& path) const {
+    static const char* const core[] = {"?", "!", "tag:yaml.org,2002:str", "tag:yaml.org,2002:int",
+                                       "tag:yaml.org,2002:float", "tag:yaml.org,2002:bool", "tag:yaml.org,2002:null",
+                                       "tag:yaml.org,2002:map", "tag:yaml.org,2002:seq"};
+    const std::string& tag = node.Tag();
+    if (tag.empty() || std::find(std::begin(core), std::end(core), tag) != std::end(core)) return;
+    throw InputError(at(node, path), "the tag '" + tag.substr(0, 60) +
+                                         "' is not read by kiln (a scene uses YAML's plain numbers, words, "
+                                         "lists and maps; !!str, !!int, !!float, !!bool and !!null are read as they say)");
   }
   Location at(const YAML::Node& node, const std::string& path) const {
     const YAML::Mark mark = node.Mark();
@@ -223,8 +237,19 @@ std::vector<std::pair<std::string, SceneNode>> SceneNode::entries() const {
   return out;
 }
 
+// A number, a count or a truth value is a plain scalar or one tagged as such: YAML reads a quoted
+// "8900" and !!str 8900 as text, which yaml-cpp would convert silently (PyYAML keeps text).
+void SceneNode::not_text(const char* expected) const {
+  const std::string& tag = node_.Tag();
+  if (tag == "!" || tag == "tag:yaml.org,2002:str")
+    fail(std::string("expected ") + expected + ", got the text '" + node_.Scalar().substr(0, 60) + "' (" +
+         (tag == "!" ? "quoted" : "tagged !!str") + ": YAML reads it as text; remove the " +
+         (tag == "!" ? "quotes" : "tag") + ")");
+}
+
 double SceneNode::number(const char* expected) const {
   if (!node_.IsScalar()) fail(std::string("expected ") + expected);
+  not_text(expected);
   double v = 0;
   try {
     v = node_.as<double>();
@@ -265,6 +290,7 @@ double SceneNode::in_range(double lo, double hi, bool lo_open, bool hi_open) con
 long long SceneNode::integer(long long min_value, long long max_value) const {
   const std::string range = "a whole number in [" + std::to_string(min_value) + ", " + std::to_string(max_value) + "]";
   if (!node_.IsScalar()) fail("expected " + range);
+  not_text(range.c_str());
   long long v = 0;
   try {
     v = node_.as<long long>();
@@ -284,6 +310,7 @@ double SceneNode::temperature() const {
 
 bool SceneNode::boolean() const {
   if (!node_.IsScalar()) fail("expected true or false");
+  not_text("true or false");
   try {
     return node_.as<bool>();
   } catch (const YAML::Exception&) {

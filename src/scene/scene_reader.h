@@ -93,6 +93,7 @@ class SceneNode {
   std::string child_path(const std::string& key) const;
   SceneNode child(YAML::Node node, const std::string& key) const;
   bool from_command_line(const std::string& path) const;
+  void not_text(const char* expected) const;
   [[noreturn]] void fail_unknown_key(const YAML::Node& key, const std::vector<std::string>& valid) const;
   YAML::Node node_;
   std::string path_;     // dotted path, e.g. particles.0.radius

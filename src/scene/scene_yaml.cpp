@@ -85,13 +85,27 @@ uint64_t physical_memory() {
   return static_cast<uint64_t>(pages) * static_cast<uint64_t>(page_size);
 }
 
-Scene parse_scene(const std::string& text, const std::string& file, const std::vector<std::string>& overrides,
+Scene parse_scene(const std::string& written, const std::string& file, const std::vector<std::string>& overrides,
                   uint64_t memory) {
+  // YAML (1.2, 5.4) and PyYAML read a lone CR as a line break; yaml-cpp 0.7 reads it as a character
+  // of its line, so a lone CR inside a comment hid the key after it (output_interval dropped). Lone
+  // CRs become line feeds, and the scene is read as the YAML it is; CR LF is the parser's.
+  std::string text = written;
+  for (size_t k = 0; k < text.size(); ++k)
+    if (text[k] == '\r' && (k + 1 == text.size() || text[k + 1] != '\n')) text[k] = '\n';
   // Names and texts end up in summary.json: text the JSON writer would refuse is refused here.
   check_utf8(text, file);
   YAML::Node doc;
   try {
-    doc = YAML::Load(text);
+    // Every document is read, so that a second one is refused rather than dropped unread.
+    const std::vector<YAML::Node> documents = YAML::LoadAll(text);
+    if (documents.size() > 1) {
+      const YAML::Mark at = documents[1].Mark();
+      throw InputError({file, at.is_null() || at.line < 0 ? 0 : at.line + 1, ""},
+                       "a second YAML document (after '---'): a scene is one document, and kiln would read only the "
+                       "first; remove the marker or put the second scene in a file of its own");
+    }
+    if (!documents.empty()) doc = documents.front();
   } catch (const YAML::DeepRecursion& e) {
     throw InputError({file, e.mark.line + 1, top_level_key_at(text, e.mark.line)},
                      "lists or maps nested " + std::to_string(e.depth()) + " levels deep: not a scene");

@@ -434,3 +434,22 @@ TEST_CASE("a density whose mass overflows is refused at its key instead of runni
                     Catch::Contains("key 'materials.copper.density'") && Catch::Contains("(0, 1e+12]"));
   CHECK_NOTHROW(load_scene(testing::case_path("t1_free_fall.yaml"), {"materials.copper.density=8.9e10"}));
 }
+
+TEST_CASE("YAML read as YAML: quoted or !!str numbers, unknown tags and a second document are refused, a lone CR is a line break",
+          "[hostile]") {
+  // yaml-cpp converted the text "8900" to a number (PyYAML keeps text), ignored tags and every
+  // document after the first, and read a lone CR as part of its line (a comment then hid the next key).
+  CHECK(has(error_of(replaced(scene, "density: 8900", "density: \"8900\"")),
+            "key 'materials.copper.density': expected a number, got the text '8900' (quoted"));
+  CHECK(has(error_of(replaced(scene, "density: 8900", "density: !!str 8900")), "tagged !!str"));
+  CHECK(error_of(replaced(scene, "density: 8900", "density: !!float 8900")).empty());
+  CHECK(has(error_of(replaced(scene, "density: 8900", "density: !custom 8900")),
+            "key 'materials.copper.density': the tag '!custom' is not read"));
+  CHECK(has(error_of(replaced(scene, "density: 8900", "density: !!binary aGVsbG8=")), "tag:yaml.org,2002:binary"));
+  CHECK(has(error_of(replaced(scene, "t_end: 0.01", "t_end: '0.01'")), "key 't_end'"));
+  CHECK(has(error_of(scene + "---\nname: second\n"), "bad.yaml:13: a second YAML document"));
+  const Scene cr = parse_scene(replaced(scene, "t_end: 0.01\n", "t_end: 0.01 # ten milliseconds\routput_interval: 0.005\n"),
+                               "cr.yaml");
+  CHECK(cr.output_interval == 0.005);
+  CHECK(cr.t_end == 0.01);
+}
