@@ -10,6 +10,7 @@
 #include "src/base/error.h"
 #include "src/base/snapshot.h"
 #include "src/base/stop_signal.h"
+#include "src/base/text_format.h"
 #include "src/dem/stage_profile.h"
 #include "src/run/simulation.h"
 #include "src/run/stability.h"
@@ -149,6 +150,12 @@ class RunCommand final : public Command {
       if (out.empty()) out = "out/" + scene.name;
     }
     if (!r.movie.empty()) check_movie_field(scene, r.movie, "--movie");  // before the run, not after
+    // A checkpoint below an ulp of the time never advanced the next one: 1e-300 s looped for ever.
+    if (r.checkpoint_every > 0 && scene.t_end / r.checkpoint_every > max_frames)
+      throw InputError(format("--checkpoint-every %g s: t_end / it = %g s / %g s = %.3g checkpoints, more than the "
+                                      "limit of %.0e; give at least %g s",
+                                      r.checkpoint_every, scene.t_end, r.checkpoint_every,
+                                      scene.t_end / r.checkpoint_every, max_frames, scene.t_end / max_frames));
     const StabilityEstimate estimate = estimate_stability(scene);
     options.estimate = &estimate;
     const DtVerdict verdict = judge_dt(estimate, scene.dt, scene);

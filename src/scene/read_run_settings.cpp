@@ -1,6 +1,7 @@
 // What a run does besides the mechanics: heat, the integrator and its steps, the run's checks
 // and its early stop.
 #include "src/scene/scene_parts.h"
+#include "src/base/text_format.h"
 
 #include <algorithm>
 #include "integrators/integrator.h"
@@ -107,6 +108,12 @@ void read_stepping(const SceneNode& root, Scene& scene) {
   scene.dt_at = root["dt"].location();
   if (scene.dt > scene.t_end) root["dt"].fail("dt is longer than t_end");
   scene.output_interval = root.has("output_interval") ? root["output_interval"].positive() : scene.t_end / 100;
+  // 1e-300 s was accepted: a frame at every step, 196 MB for 0.02 s of T3.
+  if (scene.t_end / scene.output_interval > max_frames)
+    root["output_interval"].fail(format("t_end / output_interval = %g s / %g s = %.3g frames, more than the "
+                                                "limit of %.0e; give at least %g s",
+                                                scene.t_end, scene.output_interval, scene.t_end / scene.output_interval,
+                                                max_frames, scene.t_end / max_frames));
 }
 
 // The run's own checks and its early stop.

@@ -22,6 +22,10 @@ namespace kiln {
 // float boxes of the neighbour search.
 inline constexpr double shortest_length = 1e-9;
 inline constexpr double farthest_coordinate = 1e6;
+// Frames (output_interval) and checkpoints (--checkpoint-every) of one run, at most: an interval
+// below an ulp of the time never advanced (1e-300 s looped for ever), and a million frames of even
+// a small scene are gigabytes.
+inline constexpr double max_frames = 1e6;
 
 enum class MassModel { sphere, cylinder };
 

@@ -1,7 +1,6 @@
 #include "src/studies/study_report.h"
 
 #include <charconv>
-#include <cstdarg>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -11,28 +10,6 @@
 #include "src/studies/study_ranks.h"
 
 namespace kiln {
-
-namespace {
-
-std::string vformat(const char* format, va_list args) {
-  va_list again;
-  va_copy(again, args);
-  const int n = std::vsnprintf(nullptr, 0, format, args);
-  std::string s(n > 0 ? n : 0, '\0');
-  std::vsnprintf(s.data(), s.size() + 1, format, again);
-  va_end(again);
-  return s;
-}
-
-}  // namespace
-
-std::string format(const char* format, ...) {
-  va_list args;
-  va_start(args, format);
-  std::string s = vformat(format, args);
-  va_end(args);
-  return s;
-}
 
 std::string csv_number(double v) {
   std::ostringstream s;

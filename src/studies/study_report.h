@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "src/base/text_format.h"
 #include "src/scene/scene.h"
 
 namespace kiln {
@@ -29,8 +30,6 @@ class StudyReport {
   std::string csv_, table_;
 };
 
-// printf into a string, of any length.
-std::string format(const char* format, ...) __attribute__((format(printf, 1, 2)));
 // A number in a CSV cell: six significant digits, as an ostream writes it (the studies' steps,
 // errors and times).
 std::string csv_number(double v);

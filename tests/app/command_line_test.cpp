@@ -25,3 +25,17 @@ TEST_CASE("an unknown integrator is refused at the option that named it, with th
     CHECK(has(out.output, "unknown integrator 'verlt'; valid names are 'verlet'"));
   }
 }
+
+TEST_CASE("a checkpoint interval below a millionth of the run is refused before the run, not looped on for ever",
+          "[errors]") {
+  // --checkpoint-every 1e-300 never advanced the next checkpoint's time (below an ulp of t) and
+  // ignored the first SIGTERM.
+  const auto dir = kiln::testing::fresh_dir("checkpoint_every");
+  std::filesystem::create_directories(dir);
+  const auto out = kiln::testing::run_kiln_command(
+      "run " + kiln::testing::case_path("t1_free_fall.yaml") + " --checkpoint-every 1e-300 --out " + (dir / "o").string(),
+      dir / "log");
+  CHECK(out.status == 2);
+  CHECK(has(out.output, "--checkpoint-every 1e-300 s: t_end / it ="));
+  CHECK(has(out.output, "more than the limit of 1e+06"));
+}
