@@ -205,6 +205,14 @@ TEST_CASE("every error of a particle CSV names the file, the line and what is wr
   CHECK_THAT(error("id,x,y,diameter\n1,0,0,0.002\n1,0,0,0.002\n"), Contains(f + ":3: id 1 is given twice (also at line 2)"));
   CHECK_THAT(error("id,x,y,diameter\n1.5,0,0,0.002\n"), Contains(f + ":2: column 'id': '1.5' is not a whole number"));
   CHECK_THAT(error("x,y,radius,temperature\n0,0,0.001,-300\n"), Contains(f + ":2: temperature -300 C is below absolute zero"));
+  // Issue 28: a spreadsheet's byte order mark before the header (it said "unknown column 'x'",
+  // listing x); a NUL byte (the message stopped at it); a line or a file longer than any pile's.
+  CHECK(error("\xEF\xBB\xBF" + ok).empty());
+  CHECK_THAT(error(ok + std::string("0.02,0,0.0\0\0\n", 13)), Contains(f + ":4: a NUL byte at column 11: not a text file"));
+  CHECK_THAT(error(ok + std::string(5000, '1') + "\n"), Contains(f + ":4: a line longer than 4096 bytes"));
+  std::string big = "x,y,radius\n";  // 5 MB where at most 2 particles (and comments) may come
+  while (big.size() < 5000000) big += "0.01,0.01,0.001\n";
+  CHECK_THAT(error_reading(file, big, ParticleFileFormat::csv, {2, 0}), Contains(f + ": a file of 5e+06 bytes: more than"));
   fs::remove_all(file.parent_path());
 }
 
