@@ -1,4 +1,5 @@
 #include "src/app/movie.h"
+#include "src/output/run_outputs.h"
 
 #include <algorithm>
 #include <cmath>
@@ -151,6 +152,9 @@ Movie write_movie(const std::string& dir_name, const Scene& scene, const MovieOp
   const fs::path dir(dir_name), tmp = dir / "movie.tmp";
   const std::string result = (dir / "result.h5").string();
   if (!fs::exists(result)) {
+    if (RunOutputs::running_in(dir.string()))
+      throw InputError(result + " is missing: the run in " + dir.string() +
+                       " is still running (it holds .kiln.lock); draw it when it has ended");
     // A run killed outright leaves its finished frames in result.h5.tmp and its last checkpoint.
     if (fs::exists(result + ".tmp"))
       throw InputError(result + " is missing: the run in " + dir.string() +

@@ -86,6 +86,14 @@ void RunOutputs::lock_directory() {
                      "): wait for it to end, or give another --out");
 }
 
+bool RunOutputs::running_in(const std::string& dir) {
+  const int fd = ::open((fs::path(dir) / ".kiln.lock").c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);
+  return held;
+}
+
 RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id)
     : dir_(dir), sys_(sys), layout_(result_layout(sys)), pieces_(pieces_of_segments(sys)) {
   lock_directory();

@@ -67,6 +67,9 @@ class RunOutputs {
 
   // The names a run writes, final and temporary (a new run moves these aside).
   static const std::vector<std::string>& names();
+  // Whether a run holds DIR's lock now (it is writing there): a missing result.h5 then means
+  // "still running", not "killed".
+  static bool running_in(const std::string& dir);
 
  private:
   std::string path(const std::string& name) const;

@@ -1,6 +1,9 @@
 // Movies of runs (src/app/movie.h): a frame per frame of result.h5, one colour scale and one view for
 // all of them, species by material, and the MP4 only when ffmpeg is there and succeeds.
 #include <cairo.h>
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <array>
 #include <cstdlib>
@@ -282,5 +285,22 @@ TEST_CASE("with ffmpeg, movie.mp4 is H.264 in yuv420p with a picture per frame",
   CHECK_THAT(text, Catch::Contains("codec_name=h264") && Catch::Contains("pix_fmt=yuv420p") &&
                        Catch::Contains("nb_read_frames=5"));
   CHECK_FALSE(fs::exists(dir / "movie.mp4.tmp"));
+  fs::remove_all(dir);
+}
+
+TEST_CASE("kiln movie on a run that is still writing says so, not that it was killed", "[movie]") {
+  // Issue 28: a missing result.h5 beside result.h5.tmp was always "killed"; a run holds
+  // DIR/.kiln.lock while it writes.
+  const fs::path dir = testing::fresh_dir("movie_running");
+  fs::create_directories(dir);
+  std::ofstream(dir / "result.h5.tmp") << "frames so far";
+  const Scene scene = load_scene(testing::case_path("t1_free_fall.yaml"));
+  MovieOptions options;
+  options.quiet = true;
+  CHECK_THROWS_WITH(write_movie(dir.string(), scene, options), Catch::Contains("it was killed"));
+  const int lock = ::open((dir / ".kiln.lock").c_str(), O_CREAT | O_RDWR, 0644);
+  REQUIRE(::flock(lock, LOCK_EX | LOCK_NB) == 0);  // as a run holds it
+  CHECK_THROWS_WITH(write_movie(dir.string(), scene, options), Catch::Contains("is still running"));
+  ::close(lock);
   fs::remove_all(dir);
 }
