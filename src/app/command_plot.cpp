@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "src/app/command.h"
+#include "src/base/atomic_write.h"
 #include "src/base/error.h"
 #include "src/base/subprocess.h"
 #include "src/scene/observer_catalogue.h"
@@ -49,6 +50,7 @@ class PlotCommand final : public Command {
     if (!std::filesystem::exists(summary))
       throw InputError("kiln plot: " + summary + " not found: give the output directory of a run (kiln run "
                        "SCENE --out DIR)");
+    require_writable_directory(dir_, "kiln plot");  // a read-only run printed a Python traceback
     const ProgramResult r = run_program(
         {"/usr/bin/python3", std::string(KILN_SCRIPTS_DIR) + "/plot_case.py", dir_, "--keys", catalogue_keys()});
     std::fprintf(stderr, "%s", r.errors.c_str());  // the script's warnings and errors

@@ -2,6 +2,7 @@
 // (src/studies/), which share their options, their output directory and the ranks of mpirun.
 #include "src/app/command.h"
 #include "src/app/command_options.h"
+#include "src/base/atomic_write.h"
 #include "src/base/error.h"
 #include "src/scene/scene_yaml.h"
 #include "src/studies/study_order.h"
@@ -52,6 +53,8 @@ class StudyCommand final : public Command {
     if (this_rank() != 0) {
       o_.out_dir.clear();
       o_.quiet = true;
+    } else {
+      require_writable_directory(o_.out_dir, "--out");
     }
     study_(o_);
     return finish_ranks(exit_success, "");

@@ -38,4 +38,17 @@ void publish(const std::string& tmp, const std::string& path) {
   }
 }
 
+void require_writable_directory(const std::string& dir, const std::string& option) {
+  std::error_code error;
+  std::filesystem::create_directories(dir, error);
+  const std::string probe = (std::filesystem::path(dir) / ".kiln-writable").string();
+  std::FILE* f = error ? nullptr : std::fopen(probe.c_str(), "w");
+  if (!f) {
+    const std::string why = error ? error.message() : std::strerror(errno);
+    throw InputError(option + " " + dir + ": cannot write there (" + why + "): give a directory you may write into");
+  }
+  std::fclose(f);
+  std::remove(probe.c_str());
+}
+
 }  // namespace kiln

@@ -39,3 +39,17 @@ TEST_CASE("a checkpoint interval below a millionth of the run is refused before 
   CHECK(has(out.output, "--checkpoint-every 1e-300 s: t_end / it ="));
   CHECK(has(out.output, "more than the limit of 1e+06"));
 }
+
+TEST_CASE("a study whose --out cannot be written is refused before its runs, with exit 2", "[errors]") {
+  // Into a read-only directory `kiln order` ran every run, then exited 6 (as root, a path under a
+  // file stands for one: nothing can be written below it).
+  const auto dir = kiln::testing::fresh_dir("unwritable_out");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "a_file") << "not a directory";
+  const auto out = kiln::testing::run_kiln_command("order " + kiln::testing::case_path("t1_free_fall.yaml") +
+                                                       " --integrators erk2 --dt 1e-4 --levels 2 --out " +
+                                                       (dir / "a_file" / "order").string(),
+                                                   dir / "log");
+  CHECK(out.status == 2);
+  CHECK(has(out.output, "--out " + (dir / "a_file" / "order").string() + ": cannot write there (Not a directory)"));
+}
