@@ -51,10 +51,13 @@ class Snapshot {
   // Written under path + ".tmp" and renamed: a run killed while writing keeps its previous
   // checkpoint. Throws OutputError naming the file.
   void write(const std::string& path) const;
-  // Throws InputError when the file is not a kiln snapshot.
+  // Throws InputError when the file is not a kiln snapshot, or when a dataset does not match the
+  // checksum written with it (or is missing, or was added): nothing of a changed or damaged
+  // checkpoint is used.
   static Snapshot read(const std::string& path);
 
  private:
+  void verify_checksums();
   std::string source_;  // the file it was read from, for messages
   std::map<std::string, std::vector<double>> reals_;
   std::map<std::string, std::vector<long long>> integers_;

@@ -6,6 +6,7 @@
 
 #include "src/base/error.h"
 #include "src/base/snapshot.h"
+#include "tests/support.h"
 
 using namespace kiln;
 
@@ -66,4 +67,53 @@ TEST_CASE("a missing field is refused by its key", "[snapshot]") {
   SnapshotFields in(static_cast<const Snapshot&>(s), "observer.0.");
   CHECK_THROWS_AS(in.field("last_gap", v), InputError);
   CHECK_THROWS_WITH(in.field("last_gap", v), Catch::Contains("'observer.0.last_gap'"));
+}
+
+TEST_CASE("a checkpoint proves what it holds: a changed, shortened, added or missing dataset is refused by name",
+          "[snapshot]") {
+  // Issue 28: four flipped bits or a coordinate times 1e200 resumed with exit 0 and wrong frames, a
+  // shortened array corrupted memory, an edited scene text resumed another scene.
+  const std::filesystem::path dir = kiln::testing::fresh_dir("snapshot_checksums");
+  std::filesystem::create_directories(dir);
+  const std::string path = (dir / "checkpoint.h5").string();
+  kiln::Snapshot s;
+  s.put("position", std::vector<double>{0.1, 0.2, 0.3});
+  s.put_integers("ids", std::vector<long long>{1, 2, 3});
+  s.put_text("scene", "name: a\n");
+  s.write(path);
+  CHECK(kiln::Snapshot::read(path).reals("position")[2] == 0.3);  // intact: read
+  auto edit = [&](const char* dataset, const std::vector<double>& values) {
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    H5Ldelete(file, dataset, H5P_DEFAULT);
+    const hsize_t n[] = {values.size()};
+    const hid_t space = H5Screate_simple(1, n, nullptr);
+    const hid_t ds = H5Dcreate2(file, dataset, H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, values.data());
+    H5Dclose(ds);
+    H5Sclose(space);
+    H5Fclose(file);
+  };
+  using Catch::Matchers::Contains;
+  edit("real/position", {0.1, 0.2, 0.3 * 1e200});
+  CHECK_THROWS_WITH(kiln::Snapshot::read(path), Contains("dataset 'real/position' does not match its checksum"));
+  edit("real/position", {0.1, 0.2});  // shortened
+  CHECK_THROWS_WITH(kiln::Snapshot::read(path), Contains("dataset 'real/position' does not match its checksum"));
+  s.write(path);
+  edit("real/velocity", {1.0});  // added
+  CHECK_THROWS_WITH(kiln::Snapshot::read(path), Contains("'real/velocity' is not one the checkpoint was written with"));
+  s.write(path);
+  {
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    H5Ldelete(file, "integer/ids", H5P_DEFAULT);
+    H5Fclose(file);
+  }
+  CHECK_THROWS_WITH(kiln::Snapshot::read(path), Contains("dataset 'integer/ids' is missing"));
+  s.write(path);
+  {
+    const hid_t file = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    H5Ldelete(file, "text/kiln.checksums", H5P_DEFAULT);
+    H5Fclose(file);
+  }
+  CHECK_THROWS_WITH(kiln::Snapshot::read(path), Contains("holds no checksums"));
+  std::filesystem::remove_all(dir);
 }
