@@ -129,9 +129,11 @@ void run_one(const std::string& path, const std::vector<std::string>& base_sets,
   sets.insert(sets.end(), run.sets.begin(), run.sets.end());
   try {
     // One frame at the end (no steps shortened to land on frames), unless the scene freezes or
-    // stops by its kinetic energy: that is checked at its frames, so it keeps them.
+    // stops by its kinetic energy (checked at its frames), or the quantity is a report's: the
+    // observers sample at the frames, and a discharge rate, a dynamic angle of repose or an
+    // effective friction over a window of the run was not measured from two samples.
     Scene scene = load_scene(path, sets);
-    if (!scene.freeze.enabled && scene.stop_kinetic_energy == 0) scene.output_interval = t_end;
+    if (!scene.freeze.enabled && scene.stop_kinetic_energy == 0 && !reported_key(scene, q)) scene.output_interval = t_end;
     const int runs = run.repeats > 1 ? run.repeats + 1 : 1;  // a warm-up first when timing
     const StabilityEstimate estimate = estimate_stability(scene);  // once for the repeats
     double best = INFINITY;

@@ -364,3 +364,18 @@ TEST_CASE("a ladder left with one halving after its unstable levels is not judge
   CHECK(entry["left_out_unstable"]["dt"].size() == 1u);
   CHECK(entry["verdict"].get<std::string>().rfind("not settled (one halving", 0) == 0);
 }
+
+TEST_CASE("a study measures a report's quantity as a run of the scene does, its frames kept for the observers",
+          "[study]") {
+  // Studies ran with one frame at the end, and the observers sample at the frames: a dynamic angle
+  // of repose (the mean tilt over the run's second half), a discharge rate or an effective
+  // friction over a window came from two samples, or were not measured at all.
+  const std::string scene = testing::case_path("t6_drum.yaml");
+  const std::vector<std::string> sets = {"particles.0.fill.count=40", "output_interval=0.01"};
+  std::vector<StudyRun> runs = {StudyRun("velocity-verlet", 2e-5)};
+  run_study(scene, sets, 0.1, "dynamic_angle_of_repose_deg", runs, 1);
+  REQUIRE(runs[0].failure.empty());
+  const Scene direct = load_scene(scene, {"particles.0.fill.count=40", "output_interval=0.01", "t_end=0.1", "dt=2e-5"});
+  const double expected = run_scene(direct, {"", true})["dynamic_angle_of_repose_deg"].get<double>();
+  CHECK(runs[0].value.front() == expected);
+}
