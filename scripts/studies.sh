@@ -140,12 +140,12 @@ for tol in 2 1 0.5; do
   run "T3 (100 discs): heap angle within $tol degree(s)" "recommend-t3-$tol" \
     "$kiln" recommend cases/t3_heap.yaml --quantity heap_angle_deg --tolerance "$tol" --halvings 4 --t-end 1 --set particles.0.fill.count=100
 done
-run "T6 drum at 30 rpm: dynamic angle of repose within 1 degree (first 0.6 s)" recommend-t6 \
-  "$kiln" recommend cases/t6_drum.yaml --quantity dynamic_angle_of_repose_deg --tolerance 1 --halvings 4 --t-end 0.6
-run "C3 hopper: discharge rate within 0.002 kg/s" recommend-c3 \
-  "$kiln" recommend cases/c3_hopper.yaml --quantity discharge_rate --tolerance 0.002 --halvings 3
+run "T6 drum at 30 rpm (200 discs): dynamic angle of repose within 1 degree (first 0.6 s)" recommend-t6 \
+  "$kiln" recommend cases/t6_drum.yaml --quantity dynamic_angle_of_repose_deg --tolerance 1 --halvings 3 --t-end 0.6 --set particles.0.fill.count=200
+run "C3 hopper: discharge rate within 0.002 kg/s (first second)" recommend-c3 \
+  "$kiln" recommend cases/c3_hopper.yaml --quantity discharge_rate --tolerance 0.002 --halvings 2 --t-end 1
 run "N3 shear cell: effective friction within 0.02 (first 0.2 s)" recommend-n3 \
-  "$kiln" recommend cases/n3_shear_cell.yaml --quantity effective_friction --tolerance 0.02 --halvings 3 --t-end 0.2
+  "$kiln" recommend cases/n3_shear_cell.yaml --quantity effective_friction --tolerance 0.02 --halvings 2 --t-end 0.2
 {
   echo "### What the probes cost"
   echo

@@ -56,14 +56,21 @@ ImpactSpeeds impact_speeds(const Scene& scene) {
 
 }  // namespace
 
-std::optional<std::string> too_many_steps(const char* step_name, double step, double duration) {
+std::optional<std::string> too_many_steps(const char* step_name, double step, double duration,
+                                          const char* duration_name) {
   const double steps = std::ceil(duration / step);
   if (steps <= max_steps) return std::nullopt;
   std::ostringstream s;
-  s << "t_end / " << step_name << " = " << duration << " s / " << step << " s = " << steps
+  s << duration_name << " / " << step_name << " = " << duration << " s / " << step << " s = " << steps
     << " steps, more than the limit of " << max_steps << " steps: the run would not end in any useful time; raise "
-    << step_name << " or shorten t_end, or run it anyway with --force";
+    << step_name << " or shorten " << duration_name << ", or run it anyway with --force";
   return s.str();
+}
+
+std::optional<std::string> too_many_moving_steps(const Scene& scene, double dt, double t_end) {
+  if (scene.freeze.enabled && scene.freeze.latest < t_end)
+    return too_many_steps("dt", dt, scene.freeze.latest, "freeze.latest");
+  return too_many_steps("dt", dt, t_end);
 }
 
 namespace {
@@ -531,7 +538,7 @@ DtVerdict judge_dt(const StabilityEstimate& est, double dt, const Scene& scene) 
                          : scene.dt_at.file.empty()  ? describe(scene.t_end_at) + ": "
                                                      : describe(scene.t_end_at) + " and " + describe(scene.dt_at) + ": ";
   if (scene.control.rtol == 0)
-    if (auto why = too_many_steps("dt", dt, scene.t_end)) return refused(at + *why);
+    if (auto why = too_many_moving_steps(scene, dt, scene.t_end)) return refused(at + *why);
   if (scene.freeze.enabled && scene.control.rtol == 0)
     if (auto why = too_many_steps("freeze.dt", scene.freeze.dt, scene.t_end)) return refused(at + *why);
   if (not_a_number(est))

@@ -14,9 +14,13 @@ namespace kiln {
 // least): refused like an unstable dt (which --force overrides); studies refuse such runs too.
 // Adaptive runs are not counted: their dt is only the first guess.
 constexpr double max_steps = 1e9;
-// The message refusing a stage of `duration` in steps of `step` (named `step_name`) when it has
-// more than max_steps steps; nothing otherwise.
-std::optional<std::string> too_many_steps(const char* step_name, double step, double duration);
+// The message refusing a stage of `duration` (named `duration_name`) in steps of `step` (named
+// `step_name`) when it has more than max_steps steps; nothing otherwise.
+std::optional<std::string> too_many_steps(const char* step_name, double step, double duration,
+                                          const char* duration_name = "t_end");
+// The same for the moving stage of a scene at step dt run to t_end: until t_end, or until
+// freeze.latest when the scene freezes before (N2's settling at 1e-6 s is 1e5 steps, not 1.8e9).
+std::optional<std::string> too_many_moving_steps(const Scene& scene, double dt, double t_end);
 
 // An integrator's step limit on the linearised mechanics of one state of a scene
 // (src/run/linearised_dynamics.h, integrators/stability_region.h), and the mode that binds it.

@@ -225,14 +225,16 @@ void share_results(std::vector<StudyRun>& runs, const std::vector<size_t>& mine)
 
 void run_study(const std::string& scene, const std::vector<std::string>& sets, double t_end, const std::string& quantity,
                std::vector<StudyRun>& runs, int threads, bool quiet, bool heat_stage) {
-  if (heat_stage && !load_scene(scene, sets).freeze.enabled)
+  const Scene base = load_scene(scene, sets);
+  if (heat_stage && !base.freeze.enabled)
     throw InputError("--heat-stage needs a scene that freezes (a 'freeze:' block): '" + scene + "' has none");
   // The step-count limit of kiln run, before any run starts (a study of 1e-12 s steps never ended).
   for (const StudyRun& run : runs) {
     const bool adaptive = std::any_of(run.sets.begin(), run.sets.end(),
                                       [](const std::string& s) { return s.rfind("rtol=", 0) == 0; });
     if (adaptive) continue;
-    if (const auto refusal = too_many_steps(heat_stage ? "freeze.dt" : "dt", run.dt, t_end))
+    if (const auto refusal =
+            heat_stage ? too_many_steps("freeze.dt", run.dt, t_end) : too_many_moving_steps(base, run.dt, t_end))
       throw InputError("a run of the study with " + run.integrator + ": " +
                        refusal->substr(0, refusal->rfind(", or run it anyway")));
   }

@@ -461,3 +461,15 @@ TEST_CASE("an output interval that would write more than a million frames is ref
             "1e+06; give at least 1e-08 s"));
   CHECK(error_of(scene + "output_interval: 1.0e-8\n").empty());
 }
+
+TEST_CASE("the step count of a scene that freezes counts its moving steps until freeze.latest, not until t_end",
+          "[hostile]") {
+  // N2 settles for at most 0.1 s at dt, then heats for 30 min at freeze.dt: at dt = 1e-6 s its
+  // 1e5 moving steps were counted as 1.8e9 and refused (kiln run and the studies alike).
+  const Scene n2 = load_scene(testing::case_path("n2_heated_steel_bed.yaml"), {"dt=1e-6"});
+  CHECK_FALSE(too_many_moving_steps(n2, 1e-6, n2.t_end).has_value());
+  const auto refused = too_many_moving_steps(n2, 1e-12, n2.t_end);
+  REQUIRE(refused.has_value());
+  CHECK(has(*refused, "freeze.latest / dt = 0.1 s / 1e-12 s"));
+  CHECK(has(*refused, "shorten freeze.latest"));
+}
