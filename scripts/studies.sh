@@ -111,7 +111,7 @@ boundaries() {  # boundaries TITLE SCENE DTMIN DTMAX QUANTITY "SETS..." SCHEME..
 }
 boundaries "N2 reduced (720 stiff Hertz steel discs settling, 5 ms)" cases/n2_heated_steel_bed.yaml 1e-6 3e-5 position \
   "--t-end 0.005 --set freeze=null" verlet velocity-verlet erk2 erk4 erk5
-run "N2 reduced: mean temperature after 30 min (settle, freeze, heat), ensemble of 4 jittered lattices" wp-n2 \
+run "N2 reduced: mean temperature after 30 min (settle, freeze, heat), ensembles of 4 jittered lattices" wp-n2 \
   "$kiln" wp cases/n2_heated_steel_bed.yaml --integrators erk4,velocity-verlet,erk2 --dts 4e-6,2e-6 --quantity temperature_mean --seeds 4 --repeats 1 --set particles.0.lattice.jitter=4e-10
 boundaries "P1 fine powder (200 copper discs of 20 um, compacted and heated)" cases/p1_fine_powder_compaction.yaml 1e-6 1e-4 temperature_mean \
   "" velocity-verlet erk4 imex3 imex4
@@ -119,8 +119,8 @@ run "P1 fine powder: temperatures at 12 ms (fine reference)" wp-p1 \
   "$kiln" wp cases/p1_fine_powder_compaction.yaml --integrators velocity-verlet,erk4,imex4 --dts 4e-5,2e-5,1e-5,5e-6,2.5e-6 --quantity temperature --reference fine --repeats 1
 boundaries "T6 drum at 30 rpm (214 discs, first 0.2 s)" cases/t6_drum.yaml 1e-6 2e-4 mixing_index \
   "--t-end 0.2" verlet velocity-verlet erk2 erk4
-run "T6 drum at 30 rpm: temperature spread at 0.5 s, ensemble of 4 fills" wp-t6 \
-  "$kiln" wp cases/t6_drum.yaml --integrators velocity-verlet,verlet,erk4 --dts 1e-5,5e-6 --quantity temperature_std --seeds 4 --t-end 0.5 --repeats 1
+run "T6 drum at 30 rpm (200 discs): temperature spread at 0.5 s, ensembles of 4 members" wp-t6 \
+  "$kiln" wp cases/t6_drum.yaml --integrators velocity-verlet,verlet,erk4 --dts 1e-5,5e-6 --quantity temperature_std --seeds 4 --t-end 0.5 --repeats 1 --set particles.0.fill.count=200
 {
   echo "## Ensembles and kiln recommend"
   echo

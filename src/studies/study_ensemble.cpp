@@ -5,6 +5,7 @@
 
 #include "src/base/error.h"
 #include "src/base/nearest.h"
+#include "src/scene/scene_yaml.h"
 #include "src/studies/study_report.h"
 
 namespace kiln {
@@ -70,7 +71,25 @@ void check_ensemble(const Scene& scene, const std::string& quantity) {
 
 std::string member_set(int member) { return "ensemble_member=" + std::to_string(member); }
 
-EnsembleRuns run_ensembles(const std::vector<StudyRun>& points, const EnsembleOptions& o,
+int Members::number(int slot) {
+  while (static_cast<int>(numbers_.size()) <= slot) {
+    const int n = next_++;
+    try {
+      std::vector<std::string> sets = sets_;
+      sets.push_back(member_set(n));
+      load_scene(scene_, sets);
+      numbers_.push_back(n);
+    } catch (const InputError& e) {
+      skipped_.emplace_back(n, e.what());
+      if (skipped_.size() > 10 + 2 * numbers_.size())
+        throw StudyError(format("ensemble members cannot be built: %zu of the first %d fail, as member %d does: %s",
+                                skipped_.size(), n + 1, n, e.what()));
+    }
+  }
+  return numbers_[slot];
+}
+
+EnsembleRuns run_ensembles(const std::vector<StudyRun>& points, const EnsembleOptions& o, Members& numbers,
                            const std::function<void(std::vector<StudyRun>&)>& run) {
   EnsembleRuns r;
   r.points.assign(points.size(), {});
@@ -78,7 +97,7 @@ EnsembleRuns run_ensembles(const std::vector<StudyRun>& points, const EnsembleOp
   for (;;) {
     std::vector<Growth> grow;
     for (size_t p = 0; p < points.size(); ++p) grow.push_back({&r.points[p], points[p], target});
-    grow_ensembles(grow, run);
+    grow_ensembles(grow, numbers, run);
     r.members = target;
     ++r.rounds;
     if (!o.automatic) return r;
@@ -97,12 +116,13 @@ EnsembleRuns run_ensembles(const std::vector<StudyRun>& points, const EnsembleOp
   }
 }
 
-void grow_ensembles(const std::vector<Growth>& grow, const std::function<void(std::vector<StudyRun>&)>& run) {
+void grow_ensembles(const std::vector<Growth>& grow, Members& members,
+                    const std::function<void(std::vector<StudyRun>&)>& run) {
   std::vector<StudyRun> batch;
   for (const Growth& g : grow)
     for (int m = static_cast<int>(g.members->size()); m < g.to; ++m) {
       batch.push_back(g.point);
-      batch.back().sets.push_back(member_set(m));
+      batch.back().sets.push_back(member_set(members.number(m)));
     }
   run(batch);
   size_t next = 0;
@@ -165,9 +185,12 @@ nlohmann::json bias_json(const Bias& b, double tolerance) {
           {"says", describe(b, tolerance)}};
 }
 
-nlohmann::json ensemble_settings_json(const EnsembleOptions& o, const EnsembleRuns& runs) {
+nlohmann::json ensemble_settings_json(const EnsembleOptions& o, const EnsembleRuns& runs, const Members& members) {
   nlohmann::json j = {{"members", runs.members}, {"level", o.level}, {"power", o.power},
                       {"member_key", "ensemble_member"}, {"tolerance", o.tolerance > 0 ? number(o.tolerance) : nullptr}};
+  nlohmann::json skipped = nlohmann::json::array();
+  for (const auto& [n, why] : members.skipped()) skipped.push_back({{"member", n}, {"reason", why}});
+  j["skipped_members"] = skipped;
   if (o.automatic) {
     j["automatic"] = {{"standard_error_target", o.se_target}, {"max_seeds", o.max_seeds},
                       {"target_reached", runs.target_reached}, {"rounds", runs.rounds}};
@@ -175,9 +198,15 @@ nlohmann::json ensemble_settings_json(const EnsembleOptions& o, const EnsembleRu
   return j;
 }
 
-std::string ensemble_heading(const EnsembleOptions& o, const EnsembleRuns& runs, const std::string& reference) {
-  std::string s = format("ensembles of %d members (ensemble_member = 0..%d: every seed the scene declares varies)",
-                         runs.members, runs.members - 1);
+std::string ensemble_heading(const EnsembleOptions& o, const EnsembleRuns& runs, const Members& members,
+                             const std::string& reference) {
+  std::string s = format("ensembles of %d members (ensemble_member = 0, 1, ...: every seed the scene declares varies)",
+                         runs.members);
+  if (!members.skipped().empty()) {
+    s += format("; %zu member%s skipped, its scene could not be built (member %d: %s)", members.skipped().size(),
+                members.skipped().size() == 1 ? "" : "s", members.skipped().front().first,
+                members.skipped().front().second.c_str());
+  }
   if (o.automatic)
     s += runs.target_reached ? format("; --seeds auto: every standard error <= %.3g after %d rounds", o.se_target, runs.rounds)
                              : format("; --seeds auto stopped at its cap of %d members with a standard error above "

@@ -16,7 +16,8 @@ nlohmann::json run_order_ensemble(const OrderOptions& o, const Scene& base, doub
   std::vector<StudyRun> points = {StudyRun(o.integrators.front(), finest)};
   for (const std::string& name : o.integrators)
     for (int level = 0; level < o.levels; ++level) points.emplace_back(name, o.dt / std::pow(o.ratio, level));
-  const EnsembleRuns runs = run_ensembles(points, e, [&](std::vector<StudyRun>& batch) {
+  Members numbers(o.scene, o.sets);
+  const EnsembleRuns runs = run_ensembles(points, e, numbers, [&](std::vector<StudyRun>& batch) {
     run_study(o.scene, o.sets, t_end, o.quantity, batch, o.threads, o.quiet, o.heat_stage);
   });
   const std::vector<double> reference = member_values(runs.points.front());
@@ -27,7 +28,7 @@ nlohmann::json run_order_ensemble(const OrderOptions& o, const Scene& base, doub
   StudyReport report("order", study_header(base, o.quantity, "ensemble", t_end));
   nlohmann::json& out = report.json();
   out["ratio"] = o.ratio;
-  out["ensemble"] = ensemble_settings_json(e, runs);
+  out["ensemble"] = ensemble_settings_json(e, runs, numbers);
   out["reference_point"] = {{"integrator", o.integrators.front()}, {"dt", finest},
                             {"statistics", ensemble_json(ensemble_of(reference, e.level))}};
   report.csv_row({"integrator", "dt", "mean", "bias", "bias_low", "bias_high", "observed_order", "order_se"});
@@ -122,7 +123,7 @@ nlohmann::json run_order_ensemble(const OrderOptions& o, const Scene& base, doub
   }
   report.publish(format("%s on %s at t = %g s: orders of the ensemble mean's bias\n", o.quantity.c_str(),
                         base.name.c_str(), t_end) +
-                     ensemble_heading(e, runs, format("%s at %.4g s", o.integrators.front().c_str(), finest)) + "\n",
+                     ensemble_heading(e, runs, numbers, format("%s at %.4g s", o.integrators.front().c_str(), finest)) + "\n",
                  "", o.out_dir, o.quiet);
   return out;
 }

@@ -100,13 +100,14 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
   std::vector<double> reference;          // the value (no randomness), or each member's (chaotic)
   double reference_accuracy = 0;
   std::vector<StudyRun> reference_members;  // chaotic: the reference's members, grown with the probes'
+  Members ensemble_members(o.scene, o.sets);
   StudyRun reference_point("", 0);
   if (chaotic) {
     const auto best = std::max_element(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
       return nominal_order(a.name) < nominal_order(b.name);
     });
     reference_point = StudyRun(best->name, best->first / std::pow(2.0, o.halvings));
-    grow_ensembles({{&reference_members, reference_point, first_members}}, run);
+    grow_ensembles({{&reference_members, reference_point, first_members}}, ensemble_members, run);
     for (const StudyRun& r : reference_members) spent += r.seconds;
     reference_json = {{"kind", "ensemble"}, {"integrator", best->name}, {"dt", reference_point.dt}};
   } else if (const auto exact = exact_quantity(base, o.quantity, t_end)) {
@@ -158,7 +159,7 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
       if (grow.empty()) return;
       if (static_cast<int>(reference_members.size()) < need) grow.push_back({&reference_members, reference_point, need});
       const size_t before = reference_members.size();
-      grow_ensembles(grow, run);
+      grow_ensembles(grow, ensemble_members, run);
       for (size_t m = before; m < reference_members.size(); ++m) spent += reference_members[m].seconds;
     }
   };
@@ -190,7 +191,7 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
     if (chaotic) {
       std::vector<Growth> batch;
       for (size_t k = 0; k < points.size(); ++k) batch.push_back({&results[k], points[k], first_members});
-      grow_ensembles(batch, run);
+      grow_ensembles(batch, ensemble_members, run);
       decide(points, results);
     } else {
       run(points);
@@ -272,8 +273,11 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
   // The recommendation: the cheapest step that meets the tolerance.
   // Costs within a tenth of each other are a tie (one wall-time sample each): fewer forces win it.
   const Probe* chosen = nullptr;
+  // Runs of a few milliseconds are timed mostly by the clock's noise: there too, forces decide.
   auto cheaper = [](const Probe& a, const Probe& b) {
-    return std::abs(a.seconds - b.seconds) <= 0.1 * std::max(a.seconds, b.seconds) ? a.rhs < b.rhs : a.seconds < b.seconds;
+    const bool tie = std::abs(a.seconds - b.seconds) <= 0.1 * std::max(a.seconds, b.seconds) ||
+                     std::max(a.seconds, b.seconds) < 0.01;
+    return tie ? a.rhs < b.rhs : a.seconds < b.seconds;
   };
   for (const Probe& p : probes)
     if (p.confirmed && (!chosen || cheaper(p, *chosen))) chosen = &p;

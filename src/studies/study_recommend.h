@@ -18,7 +18,8 @@
 //    meets the tolerance when its whole confidence interval lies within it. Ensembles start with 8
 //    members (or --seeds N, fixed) and grow, with the reference's, only while a verdict is open.
 // The cost of a step is the wall time of one run on one thread (a single run of the scene at
-// that step is what a user pays for); costs within a tenth are a tie, which fewer forces win.
+// that step is what a user pays for); costs within a tenth, or of runs under 10 ms (clock noise),
+// are a tie, which fewer forces win.
 #pragma once
 #include <nlohmann/json.hpp>
 #include <string>

@@ -21,11 +21,11 @@ namespace {
 // interval). Writes them into the study's JSON and returns the text that follows the table.
 std::string ensemble_sweep(const SweepOptions& o, const std::vector<double>& dts,
                            const std::vector<std::string>& quantities, const std::vector<EnsembleRuns>& ensembles,
-                           nlohmann::json& out) {
+                           const Members& members, nlohmann::json& out) {
   const EnsembleOptions& e = o.ensemble;
-  out["ensemble"] = ensemble_settings_json(e, ensembles.front());
+  out["ensemble"] = ensemble_settings_json(e, ensembles.front(), members);
   std::string text(1, '\n');
-  text += ensemble_heading(e, ensembles.front(), format("the smallest step, %.4g s", dts.front()));
+  text += ensemble_heading(e, ensembles.front(), members, format("the smallest step, %.4g s", dts.front()));
   for (size_t qi = 0; qi < quantities.size(); ++qi) {
     const EnsembleRuns& runs = ensembles[qi];
     if (qi > 0 && runs.members != ensembles.front().members)
@@ -95,6 +95,7 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
   for (int k = 0; k < o.points; ++k) dts.push_back(o.dt_min * std::pow(o.dt_max / o.dt_min, k / (o.points - 1.0)));
   std::vector<std::vector<StudyRun>> per_quantity;
   std::vector<EnsembleRuns> ensembles;  // with --seeds: per quantity, the members of each step
+  Members members(o.scene, o.sets);
   for (const std::string& q : quantities) {
     std::vector<StudyRun> runs;
     for (double dt : dts) runs.emplace_back(o.integrator, dt);
@@ -106,7 +107,7 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
     };
     if (ensemble) {
       // A step stands for its members: member 0's run (and limit at the end), failed if any failed.
-      ensembles.push_back(run_ensembles(runs, o.ensemble, run));
+      ensembles.push_back(run_ensembles(runs, o.ensemble, members, run));
       for (size_t k = 0; k < runs.size(); ++k) {
         runs[k] = ensembles.back().points[k].front();
         bool unstable = false;
@@ -239,7 +240,7 @@ nlohmann::json run_sweep_study(const SweepOptions& o) {
     boundary += format("runs above the boundary were stable again, up to %.5g s: a window of instability (the "
                        "first failure is the boundary)\n",
                        stable_above);
-  if (ensemble) boundary += ensemble_sweep(o, dts, quantities, ensembles, out);
+  if (ensemble) boundary += ensemble_sweep(o, dts, quantities, ensembles, members, out);
   report.publish(format("%s with %s to t = %g s (%s)\n\n", base.name.c_str(), o.integrator.c_str(), t_end,
                         ensemble ? "numbers: ensemble means" : "fields: difference from the smallest dt"),
                  "\n" + boundary, o.out_dir, o.quiet);

@@ -46,13 +46,14 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
   // Ensembles: the reference point (the first integrator at half the smallest step, or a tenth of
   // the smallest rtol) first, then every point, all of the same members.
   EnsembleRuns members;
+  Members member_numbers(o.scene, o.sets);
   std::vector<double> reference_members;
   const double finest = *std::min_element(settings.begin(), settings.end()) / (adaptive ? 10 : 2);
   if (ensemble) {
     std::vector<StudyRun> points = {make_run(o.integrators.front(), finest)};
     points.front().repeats = 1;  // not timed
     points.insert(points.end(), runs.begin(), runs.end());
-    members = run_ensembles(points, o.ensemble, run);
+    members = run_ensembles(points, o.ensemble, member_numbers, run);
     reference_members = member_values(members.points.front());
     if (reference_members.empty())
       throw StudyError(format("the reference ensemble (%s at %g s): ", o.integrators.front().c_str(), finest) +
@@ -70,7 +71,7 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
   out["repeats"] = o.repeats;
   if (o.reference == "fine") out["fine_rtol"] = o.fine_rtol;
   if (ensemble) {
-    out["ensemble"] = ensemble_settings_json(o.ensemble, members);
+    out["ensemble"] = ensemble_settings_json(o.ensemble, members, member_numbers);
     out["reference_point"] = {{"integrator", o.integrators.front()}, {adaptive ? "rtol" : "dt", finest},
                               {"statistics", ensemble_json(ensemble_of(reference_members, o.ensemble.level))}};
     out["reference_value"] = reference.front();
@@ -144,7 +145,7 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
   std::string heading = format("%s on %s at t = %g s, reference %s; cost: minimum wall time of %d runs after a warm-up\n",
                                o.quantity.c_str(), base.name.c_str(), t_end, o.reference.c_str(), o.repeats);
   if (ensemble)
-    heading += ensemble_heading(o.ensemble, members,
+    heading += ensemble_heading(o.ensemble, members, member_numbers,
                                 format("%s at %s (mean %.6g); error: |bias|", o.integrators.front().c_str(),
                                        format(adaptive ? "rtol %.3g" : "dt %.3g s", finest).c_str(), reference.front()));
   report.publish(heading + "\n", "", o.out_dir, o.quiet);
