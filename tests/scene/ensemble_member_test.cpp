@@ -6,6 +6,7 @@
 #include <string>
 
 #include "src/scene/scene_yaml.h"
+#include "src/studies/study_ensemble.h"
 #include "tests/support.h"
 
 using namespace kiln;
@@ -66,4 +67,15 @@ TEST_CASE("ensemble member 0 is the scene as written; another member redraws onl
 
 TEST_CASE("a scene with nothing random names no random source", "[scene]") {
   CHECK(parse_scene(testing::two_discs_on_a_floor, "t.yaml").random_sources.empty());
+}
+
+TEST_CASE("ensemble members whose scene cannot be built are skipped and named", "[scene]") {
+  // T6's fill of 214 discs is near its jamming limit: member 3's draw places only 211.
+  Members members(testing::case_path("t6_drum.yaml"), {});
+  CHECK(members.number(0) == 0);
+  CHECK(members.number(2) == 2);
+  CHECK(members.number(3) == 4);
+  REQUIRE(members.skipped().size() == 1);
+  CHECK(members.skipped().front().first == 3);
+  CHECK(members.skipped().front().second.find("placed only 211 of 214") != std::string::npos);
 }
