@@ -14,8 +14,12 @@ double effective_modulus(const ContactMaterial& a, const ContactMaterial& b) {
 ContactLaw mixed_law(const ContactMaterial& a, const ContactMaterial& b, NormalModel model) {
   ContactLaw law;
   law.model = model;
-  law.stiffness = (a.stiffness > 0 && b.stiffness > 0) ? 2 * a.stiffness * b.stiffness / (a.stiffness + b.stiffness)
-                                                       : std::max(a.stiffness, b.stiffness);
+  // Springs in series; as 2 / (1/k1 + 1/k2) where k1 k2 overflows (two stiffnesses of 1e300 made an
+  // infinite pair stiffness, which the step estimate left out: check passed, the run died of NaN).
+  const double product = a.stiffness * b.stiffness;
+  law.stiffness = !(a.stiffness > 0 && b.stiffness > 0) ? std::max(a.stiffness, b.stiffness)
+                  : std::isfinite(product)              ? 2 * product / (a.stiffness + b.stiffness)
+                                                        : 2 / (1 / a.stiffness + 1 / b.stiffness);
   law.effective_modulus = effective_modulus(a, b);
   law.restitution = std::sqrt(a.restitution * b.restitution);
   law.friction = std::min(a.friction, b.friction);

@@ -213,3 +213,17 @@ TEST_CASE("rolling resistance: the constant torque mu_r R* Fn while rolling, a s
   CHECK(std::sqrt(rolling_law(RollingModel::constant, mu_r, k_n, r_eff, 2 * inertia, inertia, m_eff, 0.3, fn).k / inertia) ==
         Approx(0.25 * std::sqrt(k_n / m_eff)));
 }
+
+TEST_CASE("two stiffnesses whose product overflows combine in series to a finite pair stiffness", "[contact]") {
+  // Issue 28: 2 k1 k2 / (k1 + k2) with k = 1e300 was infinite, and the step estimate left the pair
+  // out: kiln check passed and the run died of NaN.
+  kiln::contact::ContactMaterial a;
+  a.stiffness = 1e300;
+  kiln::contact::ContactMaterial b = a;
+  CHECK(kiln::contact::mixed_law(a, b, kiln::contact::NormalModel::linear).stiffness == Approx(1e300));
+  b.stiffness = 3e300;
+  CHECK(kiln::contact::mixed_law(a, b, kiln::contact::NormalModel::linear).stiffness == Approx(1.5e300));
+  a.stiffness = 6000;  // ordinary magnitudes keep their bits
+  b.stiffness = 2000;
+  CHECK(kiln::contact::mixed_law(a, b, kiln::contact::NormalModel::linear).stiffness == 2 * 6000.0 * 2000.0 / 8000.0);
+}
