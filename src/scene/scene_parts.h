@@ -3,6 +3,7 @@
 // checked readers of values, the memory claim, where each particle came from. scene_yaml.cpp calls
 // them in order. Internal to src/scene/.
 #pragma once
+#include <algorithm>
 #include <climits>
 #include <cstdint>
 #include <map>
@@ -42,17 +43,23 @@ class MemoryClaim {
  public:
   explicit MemoryClaim(uint64_t budget) : budget_(budget) {}
   long long max_particles() const {
-    return static_cast<long long>(std::min<uint64_t>(budget_ / per_particle, INT_MAX));  // n_particles() is an int
+    return static_cast<long long>(std::min<uint64_t>({budget_ / per_particle, INT_MAX, max_tree_proxies}));
   }
   void add_particles(const SceneNode& at, long long count, const std::string& what) {
     const std::string before = particles_ > 0 ? " after " + std::to_string(particles_) + " in earlier sets" : "";
     if (count > max_particles() - particles_)
-      at.fail(what + " particles" + before + ": more than the " + std::to_string(max_particles()) + " that fit in this machine's memory (" +
-              gigabytes() + " at about 1 kB per particle in a run)");
+      at.fail(what + " particles" + before + ": more than the " + std::to_string(max_particles()) + " " +
+              (budget_ / per_particle < max_tree_proxies
+                   ? "that fit in this machine's memory (" + gigabytes() + " at about 1 kB per particle in a run)"
+                   : std::string("that Box2D's tree holds (its node array's size in bytes is an int: it crashed at "
+                                 "about 17.6 million proxies)")));
     particles_ += count;
   }
   void add_segments(const SceneNode& at, size_t count) {
     segments_ += count;
+    if (particles_ + segments_ > max_tree_proxies)
+      at.fail("the walls come to " + std::to_string(segments_) + " segments, which with " + std::to_string(particles_) +
+              " particles are more proxies than Box2D's tree holds (" + std::to_string(max_tree_proxies) + ")");
     if (particles_ * per_particle + segments_ * per_segment > budget_)
       at.fail("the walls come to " + std::to_string(segments_) + " segments, which with " +
               std::to_string(particles_) + " particles exceed this machine's memory (" + gigabytes() +
@@ -61,6 +68,10 @@ class MemoryClaim {
 
  private:
   static constexpr uint64_t per_particle = 1024, per_segment = 256;
+  // Box2D 2.4's b2DynamicTree doubles an array of 2 n nodes of 40 bytes, sized by an int: beyond
+  // 2^24 proxies the doubling overflows (a segfault at about 17.6 million particles, measured on a
+  // 24 GB machine whose memory allowed 24.7 million). Particles and wall segments are its proxies.
+  static constexpr uint64_t max_tree_proxies = uint64_t{1} << 24;
   std::string gigabytes() const {
     std::ostringstream s;
     s.precision(3);
