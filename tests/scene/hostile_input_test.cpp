@@ -84,7 +84,7 @@ TEST_CASE("more than 1e9 steps are refused by judge_dt, naming the count, the li
 TEST_CASE("lattice rows x columns are counted in 64 bits against the machine's memory before any disc is placed",
           "[hostile]") {
   const auto t0 = std::chrono::steady_clock::now();
-  const std::string huge = error_of(lattice("1", "2147483647"));
+  const std::string huge = error_of(lattice("1", "2147483647"), {}, uint64_t{4} << 30);  // 4 GB: memory binds
   CHECK(has(huge, "bad.yaml:7: key 'particles.0.lattice'"));
   CHECK(has(huge, "1 x 2147483647 = 2147483647 particles"));
   CHECK(has(huge, "this machine's memory"));
