@@ -142,10 +142,10 @@ for tol in 2 1 0.5; do
 done
 run "T6 drum at 30 rpm (200 discs): dynamic angle of repose within 1 degree (first 0.6 s)" recommend-t6 \
   "$kiln" recommend cases/t6_drum.yaml --quantity dynamic_angle_of_repose_deg --tolerance 1 --halvings 3 --t-end 0.6 --set particles.0.fill.count=200
-run "C3 hopper: discharge rate within 0.002 kg/s (first second)" recommend-c3 \
-  "$kiln" recommend cases/c3_hopper.yaml --quantity discharge_rate --tolerance 0.002 --halvings 2 --t-end 1
-run "N3 shear cell: effective friction within 0.02 (first 0.2 s)" recommend-n3 \
-  "$kiln" recommend cases/n3_shear_cell.yaml --quantity effective_friction --tolerance 0.02 --halvings 2 --t-end 0.2
+run "C3 hopper: discharge rate within 0.002 kg/s (first second; at most 16 members, 600 CPU s)" recommend-c3 \
+  "$kiln" recommend cases/c3_hopper.yaml --quantity discharge_rate --tolerance 0.002 --halvings 2 --t-end 1 --max-seeds 16 --budget 600
+run "N3 shear cell: effective friction within 0.02 (first 0.2 s; at most 16 members, 600 CPU s)" recommend-n3 \
+  "$kiln" recommend cases/n3_shear_cell.yaml --quantity effective_friction --tolerance 0.02 --halvings 2 --t-end 0.2 --max-seeds 16 --budget 600
 {
   echo "### What the probes cost"
   echo

@@ -1,5 +1,7 @@
 // Files are written under a temporary name and renamed when complete: a reader never sees a
 // half-written file under a final name.
+#include <unistd.h>
+
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -39,16 +41,27 @@ void publish(const std::string& tmp, const std::string& path) {
 }
 
 void require_writable_directory(const std::string& dir, const std::string& option) {
+  // Nothing is created here (a study that fails later writes nothing): the nearest part of the
+  // path that exists must be a directory that takes a file.
+  namespace fs = std::filesystem;
   std::error_code error;
-  std::filesystem::create_directories(dir, error);
-  const std::string probe = (std::filesystem::path(dir) / ".kiln-writable").string();
-  std::FILE* f = error ? nullptr : std::fopen(probe.c_str(), "w");
-  if (!f) {
-    const std::string why = error ? error.message() : std::strerror(errno);
-    throw InputError(option + " " + dir + ": cannot write there (" + why + "): give a directory you may write into");
+  fs::path existing = fs::absolute(dir, error);
+  while (!existing.empty() && !fs::exists(existing, error) && existing.has_parent_path() && existing != existing.parent_path())
+    existing = existing.parent_path();
+  std::string why;
+  if (!fs::is_directory(existing, error)) {
+    why = std::strerror(ENOTDIR);
+  } else {
+    const std::string probe = (existing / (".kiln-writable-" + std::to_string(::getpid()))).string();
+    std::FILE* f = std::fopen(probe.c_str(), "w");
+    if (!f) why = std::strerror(errno);
+    else {
+      std::fclose(f);
+      std::remove(probe.c_str());
+    }
   }
-  std::fclose(f);
-  std::remove(probe.c_str());
+  if (!why.empty())
+    throw InputError(option + " " + dir + ": cannot write there (" + why + "): give a directory you may write into");
 }
 
 }  // namespace kiln
