@@ -53,6 +53,12 @@ uint64_t checksum(const char* group, const std::string& key, const void* data, s
   return h;
 }
 
+std::string checksum_hex(const char* group, const std::string& key, const void* data, size_t bytes) {
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(checksum(group, key, data, bytes)));
+  return hex;
+}
+
 // The text dataset that holds every other dataset's checksum, a line "group<TAB>key<TAB>hex" each.
 constexpr const char* checksums_key = "kiln.checksums";
 
@@ -94,9 +100,7 @@ void Snapshot::write(const std::string& path) const {
     const hid_t real = group("real"), integer = group("integer"), text = group("text");
     std::string sums;
     auto sum = [&sums](const char* g, const std::string& key, const void* data, size_t bytes) {
-      char hex[17];
-      std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(checksum(g, key, data, bytes)));
-      sums += std::string(g) + "\t" + key + "\t" + hex + "\n";
+      sums += std::string(g) + "\t" + key + "\t" + checksum_hex(g, key, data, bytes) + "\n";
     };
     for (const auto& [key, v] : reals_) {
       write_array(real, key, H5T_NATIVE_DOUBLE, v.data(), v.size(), tmp);
@@ -173,10 +177,8 @@ void Snapshot::verify_checksums() {
   }
   texts_.erase(listed);
   auto check = [&](const char* g, const std::string& key, const void* data, size_t bytes) {
-    char hex[17];
-    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(checksum(g, key, data, bytes)));
     const auto it = sums.find({g, key});
-    if (it == sums.end() || it->second != hex)
+    if (it == sums.end() || it->second != checksum_hex(g, key, data, bytes))
       throw InputError(source_ + ": dataset '" + g + "/" + key.substr(0, 100) + "' " +
                        (it == sums.end() ? "is not one the checkpoint was written with"
                                          : "does not match its checksum") +
