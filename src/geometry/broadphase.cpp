@@ -15,23 +15,6 @@ double segment_distance(Vec2 p, Vec2 a, Vec2 b) {
   return norm(p - (a + s * ab));
 }
 
-void* as_user_data(int index) { return reinterpret_cast<void*>(static_cast<intptr_t>(index)); }
-int from_user_data(void* p) { return static_cast<int>(reinterpret_cast<intptr_t>(p)); }
-
-// Calls fn(index) for every proxy whose fat box overlaps `box` (Box2D's templated, non-virtual query).
-template <class F>
-void query(const b2DynamicTree& tree, const b2AABB& box, F& fn) {
-  struct Callback {
-    const b2DynamicTree* tree;
-    F* fn;
-    bool QueryCallback(int32 proxy_id) {
-      (*fn)(from_user_data(tree->GetUserData(proxy_id)));
-      return true;
-    }
-  } callback{&tree, &fn};
-  tree.Query(&callback, box);
-}
-
 }  // namespace
 
 b2AABB Broadphase::box(double x0, double y0, double x1, double y1) const {

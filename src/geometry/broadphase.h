@@ -17,6 +17,7 @@
 #include <box2d/b2_dynamic_tree.h>
 
 #include <cstdint>
+#include <type_traits>
 #include <vector>
 
 #include "src/geometry/periodic_cell.h"
@@ -49,6 +50,24 @@ class Broadphase {
   void wall_pairs(const double* x, const double* y, const double* r, int n, const std::vector<Vec2>& a,
                   const std::vector<Vec2>& b, const PeriodicCell& cell, std::vector<CandidatePair>& out);
 
+  // One look at a state that may be anything a user wrote (the start check), where the lists
+  // above could hold every pair of a million discs typed onto one point: calls visit(i, j) for
+  // every pair i < j of discs within r_i + r_j + skin of each other (in a periodic cell, every
+  // pair whose nearest images are; some pairs may be visited twice, once per image), keeping
+  // nothing but a tree of its own, and stops at the first visit that returns false. Memory O(n);
+  // time O(n log n) plus the candidates visited before it stops.
+  template <class Visit>
+  void scan_particle_pairs(const double* x, const double* y, const double* r, int n, const PeriodicCell& cell,
+                           Visit&& visit) const;
+
+  // Calls fn(index) for every proxy of `tree` whose fat box overlaps `box`, with Box2D's
+  // templated, non-virtual query; when fn returns bool, false ends the query. Returns false when
+  // it was ended so.
+  template <class F>
+  static bool query(const b2DynamicTree& tree, const b2AABB& box, F& fn);
+  static void* as_user_data(int index) { return reinterpret_cast<void*>(static_cast<intptr_t>(index)); }
+  static int from_user_data(void* p) { return static_cast<int>(reinterpret_cast<intptr_t>(p)); }
+
  private:
   b2AABB box(double x0, double y0, double x1, double y1) const;
   // A particle's fat box: its disc's box around its anchor (where it was last inserted), widened
@@ -71,5 +90,47 @@ class Broadphase {
   std::vector<int32> segment_proxy_;
   b2DynamicTree segments_;
 };
+
+template <class F>
+bool Broadphase::query(const b2DynamicTree& tree, const b2AABB& box, F& fn) {
+  struct Callback {
+    const b2DynamicTree* tree;
+    F* fn;
+    bool going = true;
+    bool QueryCallback(int32 proxy_id) {
+      if constexpr (std::is_same_v<decltype((*fn)(0)), bool>)
+        going = (*fn)(from_user_data(tree->GetUserData(proxy_id)));
+      else
+        (*fn)(from_user_data(tree->GetUserData(proxy_id)));
+      return going;
+    }
+  } callback{&tree, &fn};
+  tree.Query(&callback, box);
+  return callback.going;
+}
+
+template <class Visit>
+void Broadphase::scan_particle_pairs(const double* x, const double* y, const double* r, int n,
+                                     const PeriodicCell& cell, Visit&& visit) const {
+  b2DynamicTree tree;
+  for (int i = 0; i < n; ++i) tree.CreateProxy(box(x[i] - r[i], y[i] - r[i], x[i] + r[i], y[i] + r[i]), as_user_data(i));
+  const int kx = cell.x ? 1 : 0, ky = cell.y ? 1 : 0;
+  const double lx = cell.x ? cell.length_x() : 0, ly = cell.y ? cell.length_y() : 0;
+  for (int i = 0; i < n; ++i) {
+    auto candidate = [&](int j) {
+      if (j <= i) return true;
+      const Vec2 d = cell.minimum_image(x[j] - x[i], y[j] - y[i]);
+      const double reach = r[i] + r[j] + skin_;
+      return d.x * d.x + d.y * d.y >= reach * reach || visit(i, j);
+    };
+    // Disc j within the skin of disc i has its box overlapping i's box widened by the skin.
+    const double reach = r[i] + skin_;
+    for (int ix = -kx; ix <= kx; ++ix)
+      for (int iy = -ky; iy <= ky; ++iy) {
+        const double cx = x[i] + ix * lx, cy = y[i] + iy * ly;
+        if (!query(tree, box(cx - reach, cy - reach, cx + reach, cy + reach), candidate)) return;
+      }
+  }
+}
 
 }  // namespace kiln

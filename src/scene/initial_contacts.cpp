@@ -10,7 +10,7 @@ namespace kiln::scene_parts {
 
 // Initial contacts. A centre on a wall or on another centre is always an error: the contact normal
 // runs from the one to the other and is undefined there. Other overlaps are errors unless
-// allow_overlap.
+// allow_overlap, and then when deeper than checks.max_overlap_fraction.
 void check_initial_contacts(const SceneNode& root, const Scene& scene, const ParticleSets& sets) {
   const bool overlap_allowed = root.has("allow_overlap") && root["allow_overlap"].boolean();
   std::vector<double> x, y;
@@ -20,25 +20,36 @@ void check_initial_contacts(const SceneNode& root, const Scene& scene, const Par
   }
   const double rmin = *std::min_element(scene.radius.begin(), scene.radius.end());
   Broadphase bp(1e-3 * rmin);
-  std::vector<CandidatePair> pairs;
-  bp.particle_pairs(x.data(), y.data(), scene.radius.data(), scene.n_particles(), scene.periodic, pairs);
   auto part_of_a_wall = [&](int i) { return !scene.attached.empty() && scene.attached[i] != Scene::free_particle; };
-  for (const CandidatePair& p : pairs) {
-    if (part_of_a_wall(p.i) && part_of_a_wall(p.j)) continue;  // walls do not touch walls
-    const Location& at = sets.location[sets.of[p.j]];
-    const Vec2 d = scene.position[p.j] - scene.position[p.i];
+  // Streamed, stopping at the first fault: a typo that puts a million discs on one point must be
+  // told at once, not after listing its half a trillion pairs. Allowed overlaps are bounded by
+  // the run's own overlap check, which would stop the run at its first step.
+  bp.scan_particle_pairs(x.data(), y.data(), scene.radius.data(), scene.n_particles(), scene.periodic, [&](int i, int j) {
+    if (part_of_a_wall(i) && part_of_a_wall(j)) return true;  // walls do not touch walls
+    const Location& at = sets.location[sets.of[j]];
+    const Vec2 d = scene.position[j] - scene.position[i];
     const double distance = norm(scene.periodic.minimum_image(d.x, d.y));
     if (distance == 0)
-      throw InputError(at, sets.describe(p.i) + " and " + sets.describe(p.j) +
+      throw InputError(at, sets.describe(i) + " and " + sets.describe(j) +
                                " share a centre: their contact normal is undefined, even with allow_overlap");
-    const double overlap = scene.radius[p.i] + scene.radius[p.j] - distance;
-    if (overlap > 0 && !overlap_allowed) {
-      std::ostringstream msg;
-      msg << "particles " << p.i << " and " << p.j << " overlap by " << overlap << " m at the start (sets "
-          << sets.location[sets.of[p.i]].key << " and " << at.key << "); move them apart or set allow_overlap: true";
+    const double overlap = scene.radius[i] + scene.radius[j] - distance;
+    if (overlap <= 0) return true;
+    std::ostringstream msg;
+    msg << "particles " << i << " and " << j << " overlap by " << overlap << " m at the start (sets "
+        << sets.location[sets.of[i]].key << " and " << at.key << ")";
+    if (!overlap_allowed) {
+      msg << "; move them apart or set allow_overlap: true";
       throw InputError(at, msg.str());
     }
-  }
+    const double fraction = overlap / std::min(scene.radius[i], scene.radius[j]);
+    if (fraction > scene.max_overlap_fraction) {
+      msg << ", " << fraction << " of the smaller radius: more than checks.max_overlap_fraction ("
+          << scene.max_overlap_fraction << "), so the run's overlap check would stop it at its first step";
+      throw InputError(at, msg.str());
+    }
+    return true;
+  });
+  std::vector<CandidatePair> pairs;
   std::vector<Vec2> a, b;
   for (const Segment& s : scene.segments) {
     a.push_back(s.a);
@@ -53,10 +64,17 @@ void check_initial_contacts(const SceneNode& root, const Scene& scene, const Par
     if (distance == 0)
       throw InputError(at, sets.describe(p.i) + " has its centre on " + wall +
                                ": the contact normal is undefined, even with allow_overlap; move it off the wall");
-    if (distance < scene.radius[p.i] && !overlap_allowed) {
-      std::ostringstream msg;
-      msg << sets.describe(p.i) << " overlaps " << wall << " by " << scene.radius[p.i] - distance
-          << " m at the start; move it or set allow_overlap: true";
+    const double overlap = scene.radius[p.i] - distance;
+    if (overlap <= 0) continue;
+    std::ostringstream msg;
+    msg << sets.describe(p.i) << " overlaps " << wall << " by " << overlap << " m at the start";
+    if (!overlap_allowed) {
+      msg << "; move it or set allow_overlap: true";
+      throw InputError(at, msg.str());
+    }
+    if (overlap / scene.radius[p.i] > scene.max_overlap_fraction) {
+      msg << ", " << overlap / scene.radius[p.i] << " of its radius: more than checks.max_overlap_fraction ("
+          << scene.max_overlap_fraction << "), so the run's overlap check would stop it at its first step";
       throw InputError(at, msg.str());
     }
   }

@@ -50,9 +50,9 @@ Scene read_scene(const SceneNode& root, const std::string& file, uint64_t memory
   read_periodic(root, scene, sets);
   read_heat(root, scene);
   check_laws(scene, law_location);
+  read_checks(root, scene);  // the start check bounds allowed overlaps by the run's overlap check
   check_initial_contacts(root, scene, sets);
   read_stepping(root, scene);
-  read_checks(root, scene);
   read_reports(root, scene);
   return scene;
 }

@@ -357,6 +357,32 @@ TEST_CASE("a centre on a wall or on another centre is an error even with allow_o
   CHECK(has(shared, "share a centre"));
 }
 
+TEST_CASE("the start check stops at its first fault: 40,000 discs typed onto one point are refused at once",
+          "[hostile]") {
+  // A lattice spacing of 1e-9 m: every pair of the 40,000 overlaps. Listing the 8e8 pairs before
+  // judging them took minutes and ended in std::bad_alloc; the check streams them and stops.
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string typo = replaced(lattice("200", "200"), "spacing: 0.005", "spacing: 1.0e-9");
+  const std::string refused = error_of(typo);
+  CHECK(has(refused, "bad.yaml:5: key 'particles.0'"));
+  CHECK(has(refused, "at the start"));
+  CHECK(has(refused, "set allow_overlap: true"));
+  // Allowed overlaps end where the run's overlap check would stop the run at its first step.
+  const std::string deep = error_of(typo + "allow_overlap: true\n");
+  CHECK(has(deep, "more than checks.max_overlap_fraction (0.5)"));
+  CHECK(seconds_since(t0) < hang_bound);
+  // Two discs overlapping by 0.4 of their radius: allowed; raised to 0.6, refused unless the
+  // check is widened.
+  const std::string shallow = replaced(scene, "[0.01, 0.01]", "[0.0032, 0.01]") + "allow_overlap: true\n";
+  CHECK(error_of(shallow).empty());
+  const std::string deeper = replaced(scene, "[0.01, 0.01]", "[0.0028, 0.01]") + "allow_overlap: true\n";
+  CHECK(has(error_of(deeper), "0.6 of the smaller radius"));
+  CHECK(error_of(deeper + "checks: {max_overlap_fraction: 0.7}\n").empty());
+  // A disc sunk 0.6 of its radius into the floor, likewise.
+  const std::string sunk = replaced(scene, "[0.0, 0.01]", "[0.0, 0.0008]") + "allow_overlap: true\n";
+  CHECK(has(error_of(sunk), "0.6 of its radius"));
+}
+
 TEST_CASE("judge_dt counts initial and random velocities and a fall over the scene when a disc could pass a wall",
           "[hostile]") {
   const std::string one = replaced(scene, "at: [[0.0, 0.01], [0.01, 0.01]]", "at: [[0.0, 0.05]]");
