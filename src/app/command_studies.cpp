@@ -35,7 +35,7 @@ class StudyCommand final : public Command {
                      "(with --se)");
     cli_->add_option("--se", se_, "with --seeds auto: add members until each mean's standard error is below this")
         ->check(positive_finite);
-    cli_->add_option("--max-seeds", max_seeds_, "the cap of --seeds auto (default 64)");
+    cli_->add_option("--max-seeds", max_seeds_, "the cap of --seeds auto, and of recommend's grown ensembles (default 64)");
     cli_->add_option("--level", level_, "confidence level of intervals and tests (default 0.95)");
     cli_->add_option("--tolerance", tolerance_, "the bias you accept, in the quantity's unit (ensembles)");
   }
@@ -46,7 +46,8 @@ class StudyCommand final : public Command {
   // alone prints and writes, into out/<scene name>/<study> unless --out says otherwise. Every exit
   // from here on goes through finish_ranks (main's too), so that no rank waits for one that has failed.
   int run() override {
-    o_.ensemble = ensemble_options(seeds_, se_, max_seeds_, level_, tolerance_);
+    o_.ensemble = ensemble_options(seeds_, se_, max_seeds_, cli_->count("--max-seeds") > 0, level_, tolerance_,
+                                   cli_->count("--tolerance") > 0);
     o_.ensemble.level_given = cli_->count("--level") > 0;
     start_ranks();
     if (o_.out_dir.empty()) o_.out_dir = "out/" + load_scene(o_.scene, o_.sets).name + "/" + name_;

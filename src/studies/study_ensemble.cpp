@@ -10,16 +10,21 @@
 
 namespace kiln {
 
-EnsembleOptions ensemble_options(const std::string& seeds, double se, int max_seeds, double level, double tolerance) {
+EnsembleOptions ensemble_options(const std::string& seeds, double se, int max_seeds, bool max_seeds_given, double level,
+                                 double tolerance, bool tolerance_given) {
   EnsembleOptions o;
   o.level = level;
   o.tolerance = tolerance;
   o.max_seeds = max_seeds;
+  o.max_seeds_given = max_seeds_given;
   o.se_target = se;
   if (!(level >= 0.5 && level < 1))
     throw InputError("--level: a confidence level in [0.5, 1) is needed, got " + message_number(level));
-  if (!(tolerance >= 0) || !std::isfinite(tolerance))
-    throw InputError("--tolerance: a bias of 0 (none) or more is needed, got " + message_number(tolerance));
+  if (tolerance_given && (!(tolerance > 0) || !std::isfinite(tolerance)))
+    throw InputError("--tolerance: the largest bias you accept, a number above 0 in the quantity's unit, is needed, got " +
+                     message_number(tolerance));
+  if (max_seeds_given && (max_seeds < 4 || max_seeds > 4096))
+    throw InputError("--max-seeds: a whole number in [4, 4096] is needed, got " + std::to_string(max_seeds));
   if (seeds.empty()) {
     if (se > 0) throw InputError("--se is the target of --seeds auto: give --seeds auto");
     return o;
@@ -29,8 +34,6 @@ EnsembleOptions ensemble_options(const std::string& seeds, double se, int max_se
     if (!(se > 0) || !std::isfinite(se))
       throw InputError("--seeds auto adds members until the standard error of each mean is below --se: give --se, "
                        "a positive number in the quantity's unit");
-    if (max_seeds < 4 || max_seeds > 4096)
-      throw InputError("--max-seeds: a whole number in [4, 4096] is needed, got " + std::to_string(max_seeds));
     return o;
   }
   size_t used = 0;
@@ -43,6 +46,7 @@ EnsembleOptions ensemble_options(const std::string& seeds, double se, int max_se
   if (used != seeds.size() || n < 2 || n > 4096)
     throw InputError("--seeds: a whole number of members in [2, 4096] or 'auto' is needed, got '" + seeds + "'");
   if (se > 0) throw InputError("--se is the target of --seeds auto, not of --seeds " + seeds);
+  if (max_seeds_given) throw InputError("--max-seeds caps --seeds auto, not --seeds " + seeds + " (a fixed size)");
   o.seeds = static_cast<int>(n);
   return o;
 }
@@ -52,6 +56,7 @@ void require_seeds_for_statistics(const EnsembleOptions& o) {
   if (o.level_given) throw InputError("--level is the confidence level of ensemble statistics: give --seeds N or --seeds auto");
   if (o.tolerance > 0)
     throw InputError("--tolerance judges the bias of ensemble means: give --seeds N or --seeds auto with it");
+  if (o.max_seeds_given) throw InputError("--max-seeds caps --seeds auto: give --seeds auto with it");
 }
 
 void check_ensemble(const Scene& scene, const std::string& quantity) {
@@ -166,9 +171,14 @@ namespace {
 nlohmann::json number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 }  // namespace
 
-nlohmann::json ensemble_json(const Ensemble& e) {
-  return {{"members", e.n}, {"mean", number(e.mean)}, {"standard_deviation", number(e.sd)},
-          {"standard_error", number(e.se)}, {"interval", {number(e.low), number(e.high)}}};
+nlohmann::json ensemble_json(const std::vector<double>& values, double level) {
+  const Ensemble e = ensemble_of(values, level);
+  return {{"members", e.n},
+          {"mean", number(e.mean)},
+          {"standard_deviation", number(e.sd)},
+          {"standard_error", number(e.se)},
+          {"interval", {number(e.low), number(e.high)}},
+          {"member_values", values}};
 }
 
 nlohmann::json bias_json(const Bias& b, double tolerance) {

@@ -21,7 +21,8 @@ struct EnsembleOptions {
   int seeds = 0;           // members 0 .. seeds-1; 0: no ensemble, one run of the scene as written
   bool automatic = false;  // --seeds auto: members are added until every point's standard error <= se_target
   double se_target = 0;    // --se (the quantity's unit)
-  int max_seeds = 64;      // --max-seeds: the cap of --seeds auto
+  int max_seeds = 64;      // --max-seeds: the cap of --seeds auto (and of recommend's grown ensembles)
+  bool max_seeds_given = false;
   double level = 0.95;     // --level: confidence level of every interval and test
   double power = 0.8;      // the power at which the smallest detectable bias is stated
   double tolerance = 0;    // --tolerance: the bias the user accepts (the quantity's unit); 0: none
@@ -29,13 +30,16 @@ struct EnsembleOptions {
   bool on() const { return seeds > 0 || automatic; }
 };
 
-// order, sweep and wp: --level and --tolerance judge ensembles, and are refused without --seeds
-// (they were taken and ignored).
+// order, sweep and wp: --level and --tolerance judge ensembles, and --max-seeds caps --seeds auto:
+// each is refused without them (they were taken and ignored).
 void require_seeds_for_statistics(const EnsembleOptions& options);
 
 // The --seeds, --se, --max-seeds, --level and --tolerance options as given, checked together:
 // "auto" needs --se; a number needs no --se; two members at least (one has no spread).
-EnsembleOptions ensemble_options(const std::string& seeds, double se, int max_seeds, double level, double tolerance);
+// A --max-seeds given (max_seeds_given) is refused with a fixed --seeds N; a --tolerance given
+// (tolerance_given) must be above 0.
+EnsembleOptions ensemble_options(const std::string& seeds, double se, int max_seeds, bool max_seeds_given, double level,
+                                 double tolerance, bool tolerance_given);
 
 // Refuses an ensemble study that cannot mean what it says: a quantity that is not one number per
 // run (a field or a list has no ensemble mean here), or a scene that declares nothing random
@@ -101,7 +105,8 @@ std::string member_unmeasured(const std::vector<StudyRun>& members, const std::s
 // Either of the two, the run failure first.
 std::string member_problem(const std::vector<StudyRun>& members, const std::string& quantity);
 
-nlohmann::json ensemble_json(const Ensemble& e);
+// An ensemble's statistics at `level`, with each member's value (members 0, 1, ... in slot order).
+nlohmann::json ensemble_json(const std::vector<double>& values, double level);
 nlohmann::json bias_json(const Bias& b, double tolerance);
 // How a study says what its ensembles are, for headings and JSON.
 nlohmann::json ensemble_settings_json(const EnsembleOptions& o, const EnsembleRuns& runs, const Members& members);

@@ -30,7 +30,7 @@ nlohmann::json run_order_ensemble(const OrderOptions& o, const Scene& base, doub
   out["ratio"] = o.ratio;
   out["ensemble"] = ensemble_settings_json(e, runs, numbers);
   out["reference_point"] = {{"integrator", o.integrators.front()}, {"dt", finest},
-                            {"statistics", ensemble_json(ensemble_of(reference, e.level))}};
+                            {"statistics", ensemble_json(reference, e.level)}};
   report.csv_row({"integrator", "dt", "mean", "bias", "bias_low", "bias_high", "observed_order", "order_se"});
   for (size_t i = 0; i < o.integrators.size(); ++i) {
     const std::string& name = o.integrators[i];
@@ -57,7 +57,7 @@ nlohmann::json run_order_ensemble(const OrderOptions& o, const Scene& base, doub
       biases[level] = bias.estimate;
       ses[level] = bias.se;
       resolved[level] = bias.detected();
-      statistics.push_back({{"ensemble", ensemble_json(ensemble_of(values, e.level))}, {"bias", bias_json(bias, 0)}});
+      statistics.push_back({{"ensemble", ensemble_json(values, e.level)}, {"bias", bias_json(bias, 0)}});
     }
     if (!left.empty()) entry["left_out"] = left;
     // An order between two levels only where both biases are detected: the log of an interval

@@ -19,12 +19,14 @@ namespace {
 struct Candidate {
   std::string name;
   StabilityEstimate start;  // the estimate at t = 0
-  double limit = INFINITY;  // its stability limit: at t = 0, then also on the first run's end state (s)
+  double limit = INFINITY;  // its stability limit: the smallest at t = 0 and on every probed run's end state (s)
   std::string limit_state = "the state at t = 0";
   bool conduction = false;  // conduction's limit binds
   double first = 0;         // the first step probed (s)
   double next = 0;          // the next step to probe (s)
   int probed = 0;
+  int beyond = 0;           // of them, steps beyond 0.9 of the limit on their own end states
+  bool met = false;         // some step met the tolerance (its half step may not have)
   int pending = -1;         // a probe that met the tolerance, waiting for its half step to confirm it
   bool live = true;
   std::string stopped;      // why its probe ended
@@ -36,7 +38,10 @@ struct Probe {
   double dt = 0, fraction = NAN;  // fraction: of the integrator's stability limit
   double error = NAN;             // |difference| (plus the reference's accuracy), or |bias|
   Bias bias;                      // chaotic scenes
-  bool meets = false, unstable = false;
+  std::vector<double> values;     // chaotic scenes: each member's value
+  double limit = INFINITY;        // the limit it is judged by: its candidate's, and on its own runs' end states
+  std::string limit_state;
+  bool meets = false, unstable = false, beyond = false;
   bool confirmed = false;  // it met the tolerance and so did its half step: it may be recommended
   std::string failure;
   double seconds = 0;  // one run's wall time (an ensemble's mean)
@@ -48,6 +53,18 @@ double mean_of(const std::vector<StudyRun>& runs, double StudyRun::*field) {
   double s = 0;
   for (const StudyRun& r : runs) s += r.*field / runs.size();
   return s;
+}
+
+double total_seconds(const std::vector<StudyRun>& runs) {
+  double s = 0;
+  for (const StudyRun& r : runs) s += r.seconds;
+  return s;
+}
+
+// The method a name stands for (an alias's target): two names of one method are one candidate.
+std::string method_of(const std::string& name) {
+  const IntegratorInfo& info = integrator_info(name);
+  return info.alias_of.empty() ? info.name : info.alias_of;
 }
 
 }  // namespace
@@ -65,7 +82,16 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
   if (o.halvings < 1 || o.halvings > 20)
     throw InputError("--halvings: a whole number in [1, 20] is needed, got " + std::to_string(o.halvings));
   if (!(o.budget >= 0)) throw InputError("--budget: CPU seconds, 0 (none) or more");
-  for (const std::string& name : o.integrators) make_integrator(name);  // unknown names fail here
+  std::vector<std::string> methods;
+  for (const std::string& name : o.integrators) {
+    make_integrator(name);  // unknown names fail here
+    const std::string method = method_of(name);
+    for (size_t k = 0; k < methods.size(); ++k)
+      if (methods[k] == method)
+        throw InputError("--integrators: '" + name + "' is given twice" +
+                         (o.integrators[k] == name ? "" : " ('" + o.integrators[k] + "' names the same method, " + method + ")"));
+    methods.push_back(method);
+  }
   if (o.ensemble.automatic)
     throw InputError("kiln recommend sizes its ensembles by its verdicts (8 members, grown where a verdict needs "
                      "them, up to --max-seeds): give --seeds N for a fixed size, or neither");
@@ -73,9 +99,10 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
   const bool chaotic = !base.random_sources.empty() || o.ensemble.on();
   const EnsembleOptions& ensemble = o.ensemble;
   if (chaotic) check_ensemble(base, o.quantity);
-  // Ensembles start at 8 members (or --seeds N, fixed) and grow only where a verdict needs them.
-  const int first_members = ensemble.seeds > 0 ? ensemble.seeds : 8;
-  const int max_members = ensemble.seeds > 0 ? ensemble.seeds : std::max(first_members, ensemble.max_seeds);
+  // Ensembles start at 8 members (or --seeds N, fixed; or --max-seeds when smaller) and grow only
+  // where a verdict needs them.
+  const int first_members = ensemble.seeds > 0 ? ensemble.seeds : std::min(8, ensemble.max_seeds);
+  const int max_members = ensemble.seeds > 0 ? ensemble.seeds : ensemble.max_seeds;
 
   std::vector<Candidate> candidates;
   for (const std::string& name : o.integrators) {
@@ -94,6 +121,9 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
     run_study(o.scene, o.sets, t_end, o.quantity, batch, o.threads, o.quiet, o.heat_stage);
   };
   double spent = 0;  // CPU seconds of the probe's runs
+  // The budget is judged before each batch of runs from what such runs have cost (none known: the
+  // first round runs): a batch that would end beyond it is not started.
+  auto affordable = [&](double predicted) { return o.budget == 0 || spent + predicted <= o.budget; };
 
   // The reference.
   nlohmann::json reference_json;
@@ -106,6 +136,8 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
     const auto best = std::max_element(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
       return nominal_order(a.name) < nominal_order(b.name);
     });
+    // No candidate runs at or below this step (a half step that was the reference itself would
+    // confirm nothing): the probe of a candidate ends above it.
     reference_point = StudyRun(best->name, best->first / std::pow(2.0, o.halvings));
     grow_ensembles({{&reference_members, reference_point, first_members}}, ensemble_members, run);
     for (const StudyRun& r : reference_members) spent += r.seconds;
@@ -134,16 +166,19 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
     ref.resize(values.size());
     return paired_bias(values, ref, ensemble.level, ensemble.power);
   };
+  bool budget_stopped_growth = false;
   // A verdict is decided when the bias's interval lies within the tolerance or wholly beyond it;
   // otherwise the probe (and the reference, to pair with it) gets the members that would shrink the
   // interval to the margin between its estimate and the tolerance (the interval narrows as
   // 1 / sqrt(N)), a tenth more, four at least, up to the cap.
-  auto decide = [&](const std::vector<StudyRun>& points, std::vector<std::vector<StudyRun>>& results) {
+  // Points that cannot be recommended (`skip`: beyond the limit, or failed) are not grown.
+  auto decide = [&](const std::vector<StudyRun>& points, std::vector<std::vector<StudyRun>>& results,
+                    const std::vector<char>& skip) {
     for (;;) {
       std::vector<Growth> grow;
       int need = 0;
       for (size_t k = 0; k < points.size(); ++k) {
-        if (member_values(results[k]).empty()) continue;
+        if (skip[k] || member_values(results[k]).empty()) continue;
         const Bias b = bias_of(results[k]);
         if (!std::isfinite(b.low) || verdict_of(b, tolerance) == BiasVerdict::within_tolerance || b.low > tolerance ||
             b.high < -tolerance)
@@ -158,32 +193,68 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
       }
       if (grow.empty()) return;
       if (static_cast<int>(reference_members.size()) < need) grow.push_back({&reference_members, reference_point, need});
-      const size_t before = reference_members.size();
+      double predicted = 0;
+      for (const Growth& g : grow) predicted += (g.to - g.members->size()) * total_seconds(*g.members) / g.members->size();
+      if (!affordable(predicted)) {
+        budget_stopped_growth = true;
+        return;
+      }
+      std::vector<size_t> before;
+      for (const Growth& g : grow) before.push_back(g.members->size());
       grow_ensembles(grow, ensemble_members, run);
-      for (size_t m = before; m < reference_members.size(); ++m) spent += reference_members[m].seconds;
+      for (size_t g = 0; g < grow.size(); ++g)
+        for (size_t m = before[g]; m < grow[g].members->size(); ++m) spent += (*grow[g].members)[m].seconds;
     }
   };
 
-  // The staged probe: a round per halving.
+  // The limit a probe is judged by: its candidate's so far, and on each of its runs' end states
+  // (a settled heap, a formed bed bind below t = 0's; the members' beds differ). The smallest is
+  // the candidate's from then on.
+  auto judge_limit = [&](Candidate& c, Probe& p, const std::vector<StudyRun>& runs) {
+    for (size_t m = 0; m < runs.size(); ++m) {
+      if (!runs[m].at_end.is_object()) continue;
+      const StudyLimit joined = study_limit(with_state(c.start, limit_of_json(runs[m].at_end)), base, c.name, o.heat_stage);
+      if (joined.dt < c.limit) {
+        c.limit = joined.dt;
+        c.conduction = joined.conduction;
+        c.limit_state = format("the end of its run at dt = %g s", p.dt) +
+                        (chaotic ? format(" (member %d)", ensemble_members.number(static_cast<int>(m))) : std::string());
+      }
+    }
+    p.limit = c.limit;
+    p.limit_state = c.limit_state;
+    p.fraction = p.dt / p.limit;
+    p.beyond = p.fraction > 0.9 * (1 + 1e-9);
+  };
+
+  // The staged probe: a round per step.
   std::vector<Probe> probes;
   double best_cost = INFINITY;
   bool budget_spent = false;
   for (;;) {
     std::vector<size_t> who;
     std::vector<StudyRun> points;
+    double predicted = 0;  // the round's cost, from each candidate's last step (a halving doubles it)
     for (size_t c = 0; c < candidates.size(); ++c)
       if (candidates[c].live) {
         who.push_back(c);
         points.emplace_back(candidates[c].name, candidates[c].next);
-        // The first run's end state may bind below t = 0's (a heap settled, a drum's bed formed).
-        points.back().limit_at_end = candidates[c].probed == 0 && !o.heat_stage;
+        points.back().limit_at_end = !o.heat_stage;
       }
     if (points.empty()) break;
-    if (o.budget > 0 && spent >= o.budget) {
+    for (size_t k = 0; k < who.size(); ++k)
+      for (auto p = probes.rbegin(); p != probes.rend(); ++p)
+        if (p->integrator == candidates[who[k]].name) {
+          predicted += p->seconds * (p->dt / points[k].dt) * (chaotic ? first_members : 1);
+          break;
+        }
+    if (!affordable(predicted)) {
       budget_spent = true;
       for (size_t c : who) {
         candidates[c].live = false;
-        candidates[c].stopped = format("the budget of %g CPU seconds was spent", o.budget);
+        candidates[c].stopped = format("its next step would go beyond the budget of %g CPU seconds (%.3g spent, the "
+                                       "round predicted at %.3g)",
+                                       o.budget, spent, predicted);
       }
       break;
     }
@@ -192,43 +263,44 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
       std::vector<Growth> batch;
       for (size_t k = 0; k < points.size(); ++k) batch.push_back({&results[k], points[k], first_members});
       grow_ensembles(batch, ensemble_members, run);
-      decide(points, results);
     } else {
       run(points);
       for (size_t k = 0; k < points.size(); ++k) results[k] = {points[k]};
     }
+    for (const std::vector<StudyRun>& runs : results) spent += total_seconds(runs);
+    std::vector<Probe> round(who.size());
+    std::vector<char> skip(who.size());
+    for (size_t k = 0; k < who.size(); ++k) {
+      Probe& p = round[k];
+      p.integrator = candidates[who[k]].name;
+      p.dt = points[k].dt;
+      judge_limit(candidates[who[k]], p, results[k]);
+      p.failure = member_failure(results[k], &p.unstable);
+      skip[k] = p.beyond || !p.failure.empty();
+    }
+    if (chaotic) decide(points, results, skip);
     for (size_t k = 0; k < who.size(); ++k) {
       Candidate& c = candidates[who[k]];
       const std::vector<StudyRun>& runs = results[k];
-      Probe p;
-      p.integrator = c.name;
-      p.dt = runs.front().dt;
-      c.next = p.dt / 2;
-      if (c.probed++ == 0 && runs.front().at_end.is_object()) {
-        const MechanicalLimit end = limit_of_json(runs.front().at_end);
-        const StudyLimit joined = study_limit(with_state(c.start, end), base, c.name, o.heat_stage);
-        if (joined.dt < c.limit) {
-          c.limit = joined.dt;
-          c.conduction = joined.conduction;
-          c.limit_state = format("the end of its first run (dt = %g s)", p.dt);
-          c.next = std::min(c.next, 0.9 * c.limit);
-        }
-      }
-      p.fraction = p.dt / c.limit;
-      p.failure = member_failure(runs, &p.unstable);
-      if (p.failure.empty() && p.fraction > 0.9 * (1 + 1e-9))
-        p.failure = format("beyond 0.9 of the stability limit on %s, %.4g s: never recommended", c.limit_state.c_str(),
-                           c.limit);
+      Probe& p = round[k];
+      ++c.probed;
+      if (p.failure.empty() && p.beyond)
+        p.failure = format("beyond 0.9 of the stability limit on %s, %.4g s: never recommended", p.limit_state.c_str(),
+                           p.limit);
       else if (p.failure.empty() && member_values(runs).empty())
         p.failure = member_unmeasured(runs, o.quantity);
+      c.beyond += p.beyond;
+      // Past the limit the probe goes on from 0.8 of it: the limit on the end states varies by some
+      // per cent between members and steps (measured on T3: 4.5e-5 to 6.3e-5 s), and a step at
+      // 0.9 of the smallest limit found so far was mostly beyond 0.9 of its own runs' smallest.
+      // Within the limit, it halves.
+      c.next = p.beyond ? 0.8 * c.limit : p.dt / 2;
       p.seconds = mean_of(runs, &StudyRun::seconds);
       p.members = static_cast<int>(runs.size());
-      for (const StudyRun& r : runs) {
-        spent += r.seconds;
-        p.rhs += static_cast<double>(r.rhs_evals) / runs.size();
-      }
+      for (const StudyRun& r : runs) p.rhs += static_cast<double>(r.rhs_evals) / runs.size();
       if (p.failure.empty()) {
         if (chaotic) {
+          p.values = member_values(runs);
           p.bias = bias_of(runs);
           p.error = std::abs(p.bias.estimate);
           p.meets = verdict_of(p.bias, tolerance) == BiasVerdict::within_tolerance;
@@ -237,6 +309,7 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
           p.meets = p.error <= tolerance;
         }
       }
+      c.met = c.met || p.meets;
       probes.push_back(p);
       // A step is recommended only when its half step meets the tolerance too: an error that
       // happens to be small at t_end (a harmonic contact's phase) is no error that falls with dt.
@@ -249,17 +322,23 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
         c.pending = static_cast<int>(probes.size()) - 1;
       } else {
         c.pending = -1;
-        if (!p.failure.empty() && !p.unstable && p.failure.rfind("beyond", 0) != 0) {
+        if (!p.failure.empty() && !p.unstable && !p.beyond) {
           c.live = false;  // an error, not the step: halving would not cure it
           c.stopped = p.failure;
         }
       }
       if (!c.live) continue;
+      const std::string probed =
+          format("%d steps probed", c.probed) + (c.beyond ? format(" (%d beyond 0.9 of the limit)", c.beyond) : "");
+      const std::string missed = c.met ? "a step met the tolerance but its half step did not" : "none met the tolerance";
       // A halving doubles a run's cost: a candidate whose next step costs more than the best found
       // stops (a pending one runs its confirmation whatever it costs).
-      if (c.pending < 0 && c.probed >= o.halvings) {
+      if (chaotic && c.next <= reference_point.dt * (1 + 1e-9)) {
         c.live = false;
-        c.stopped = format("%d steps probed without meeting the tolerance", o.halvings);
+        c.stopped = probed + ", down to the reference's step: " + missed;
+      } else if (c.pending < 0 && c.probed >= o.halvings) {
+        c.live = false;
+        c.stopped = probed + ": " + missed;
       } else if (c.pending >= 0 && c.probed > o.halvings) {
         c.live = false;
         c.stopped = "met the tolerance at its finest step, which its half step could not confirm: more --halvings";
@@ -286,7 +365,7 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
     if (p.failure.empty() && (!closest || p.error < closest->error)) closest = &p;
 
   if (chaotic) {
-    reference_json["statistics"] = ensemble_json(ensemble_of(member_values(reference_members), ensemble.level));
+    reference_json["statistics"] = ensemble_json(member_values(reference_members), ensemble.level);
     reference_json["members_first"] = first_members;
     reference_json["members_cap"] = max_members;
   }
@@ -297,37 +376,42 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
   out["cpu_seconds"] = spent;
   out["budget"] = o.budget > 0 ? nlohmann::json(o.budget) : nlohmann::json(nullptr);
   out["budget_spent"] = budget_spent;
+  out["budget_stopped_growth"] = budget_stopped_growth;
   report.csv_row({"integrator", "dt", "fraction_of_limit", "error", "meets", "seconds", "rhs_evals"});
   report.table("  integrator            dt        of limit   %-30s  meets   s per run   rhs evals\n",
-               chaotic ? "|bias| (interval)" : "error");
+               chaotic ? "bias (interval)" : "error");
   nlohmann::json probes_json = nlohmann::json::array();
   for (const Probe& p : probes) {
     nlohmann::json j = {{"integrator", p.integrator}, {"dt", p.dt}, {"members", p.members},
                         {"fraction_of_limit", std::isfinite(p.fraction) ? nlohmann::json(p.fraction) : nlohmann::json(nullptr)},
-                        {"meets", p.meets}, {"confirmed", p.confirmed}, {"seconds", p.seconds},
-                        {"rhs_evals", std::lround(p.rhs)}};
+                        {"stability_limit", std::isfinite(p.limit) ? nlohmann::json(p.limit) : nlohmann::json(nullptr)},
+                        {"limit_state", p.limit_state}, {"meets", p.meets}, {"confirmed", p.confirmed},
+                        {"seconds", p.seconds},
+                        {"rhs_evals", p.failure.empty() ? nlohmann::json(std::lround(p.rhs)) : nlohmann::json(nullptr)}};
+    if (chaotic && !p.values.empty()) j["member_values"] = p.values;
     std::string error;
     if (!p.failure.empty()) {
       j["failure"] = p.failure;
       j["unstable"] = p.unstable;
       error = p.unstable                          ? "unstable"
-              : p.failure.rfind("beyond", 0) == 0 ? "beyond the limit at its end"
+              : p.beyond                          ? "beyond 0.9 of the limit"
               : p.failure.find("not measured") != std::string::npos ? "not measured"
                                                                        : "failed";
     } else {
       j["error"] = p.error;
       if (chaotic) {
         j["bias"] = bias_json(p.bias, tolerance);
-        error = format("%.3g [%.3g, %.3g]", p.error, p.bias.low, p.bias.high);
+        error = format("%.3g [%.3g, %.3g]", p.bias.estimate, p.bias.low, p.bias.high);
       } else {
         error = format("%.4g", p.error);
       }
     }
     probes_json.push_back(j);
-    report.table("  %-18s  %10.4e  %8.3f   %-30s  %-5s   %9.4g   %9ld\n", p.integrator.c_str(), p.dt, p.fraction,
-                 error.c_str(), p.confirmed ? "yes" : p.meets ? "yes*" : "no", p.seconds, std::lround(p.rhs));
+    const std::string rhs = p.failure.empty() ? std::to_string(std::lround(p.rhs)) : "";
+    report.table("  %-18s  %10.4e  %8.3f   %-30s  %-5s   %9.4g   %9s\n", p.integrator.c_str(), p.dt, p.fraction,
+                 error.c_str(), p.confirmed ? "yes" : p.meets ? "yes*" : "no", p.seconds, rhs.c_str());
     report.csv_row({p.integrator, csv_number(p.dt), csv_number(p.fraction), p.failure.empty() ? csv_number(p.error) : "",
-                    p.meets ? "1" : "0", csv_number(p.seconds), std::to_string(std::lround(p.rhs))});
+                    p.meets ? "1" : "0", csv_number(p.seconds), rhs});
   }
   out["probes"] = probes_json;
   nlohmann::json stops = nlohmann::json::object();
@@ -343,8 +427,9 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
   std::vector<std::string> others;
   for (const IntegratorInfo& info : integrator_catalogue())
     if (info.alias_of.empty() && info.integrates_contacts &&
-        std::find(o.integrators.begin(), o.integrators.end(), info.name) == o.integrators.end())
+        std::find(methods.begin(), methods.end(), info.name) == methods.end())
       others.push_back(info.name);
+  out["integrators"] = o.integrators;
   out["not_tried"] = {{"integrators", others}, {"adaptive_stepping", true},
                       {"steps", "below each candidate's last probed step, and above 0.9 of its stability limit"}};
   std::string verdict;
@@ -360,8 +445,10 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
                      chaotic ? "|bias|" : "error", chosen->error, tolerance, chosen->seconds);
   } else {
     out["recommendation"] = nullptr;
-    verdict = format("no probed scheme meets %.3g%s: raise --halvings%s, or try other --integrators", tolerance,
-                     budget_spent ? " within the budget" : "", budget_spent ? " or --budget" : "");
+    verdict = format("no probed step met %.3g at itself and at its half step%s: raise --halvings%s, or try other "
+                     "--integrators",
+                     tolerance, budget_spent || budget_stopped_growth ? " within the budget" : "",
+                     budget_spent || budget_stopped_growth ? " or --budget" : "");
     if (closest)
       verdict += format(" (the smallest error reached: %.3g, %s at %.4g s%s)", closest->error,
                         closest->integrator.c_str(), closest->dt,
@@ -385,6 +472,8 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
                                 : ""),
                  "\nyes*: met the tolerance, but its half step did not (or was not run): not recommended\n" + ends +
                      verdict +
+                     (budget_stopped_growth ? "the budget stopped an ensemble's growth: a verdict it needed stays open\n"
+                                            : "") +
                      format("probe cost: %.3g CPU seconds of runs; not tried: %zu other integrators, adaptive stepping, "
                             "steps below each candidate's last\n",
                             spent, others.size()),

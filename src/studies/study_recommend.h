@@ -3,20 +3,26 @@
 //
 // The probe. Each candidate starts at 0.9 of its own stability limit on the scene at t = 0
 // (src/run/stability.h) and halves its step, round by round, all candidates' runs of a round in
-// parallel. Its first run also measures the limit on its end state (a settled heap, a formed bed
-// binds below t = 0's): a step beyond 0.9 of the smaller limit is never recommended, and the probe
-// goes on from 0.9 of it. A step meets the tolerance when its error does and its half step's does
-// too (an error small by chance at t_end, as a harmonic contact's phase makes it, is not taken);
-// a candidate stops once a step is so confirmed, once its next step would cost more than the
-// cheapest confirmed step (a halving doubles the cost), after `halvings` steps, or when the budget
-// is spent. The error of a step is:
+// parallel. Every run also measures the limit on its end state (a settled heap, a formed bed bind
+// below t = 0's; an ensemble's members, each its own): a step beyond 0.9 of the smallest limit
+// measured on its own runs, at t = 0 or on the candidate's earlier runs is never recommended, and
+// after one the probe goes on from 0.8 of that limit (a margin for the spread of the limit between
+// members and steps). A step meets the tolerance when its error
+// does and its half step's does too (an error small by chance at t_end, as a harmonic contact's
+// phase makes it, is not taken); a candidate stops once a step is so confirmed, once its next
+// step would cost more than the cheapest confirmed step (a halving doubles the cost), after
+// `halvings` steps, at the reference's step, or when the budget would be overrun: each batch of
+// runs is predicted from what such runs cost (a failed run counts until it failed) and not
+// started when it would end beyond the budget. The error of a step is:
 //  - on a scene that declares nothing random: its difference from the exact value where one is
 //    registered, else from a fine adaptive run, plus that run's measured accuracy;
 //  - on a chaotic scene (one that declares a seed): the bias of its ensemble mean against the
 //    reference ensemble (the highest-order candidate at its finest possible step, first / 2^halvings;
-//    that reference's own bias is not measured, and the output says so), paired seed by seed; it
+//    no candidate runs at or below it, so no half step is the reference itself; that reference's
+//    own bias is not measured, and the output says so), paired seed by seed; it
 //    meets the tolerance when its whole confidence interval lies within it. Ensembles start with 8
-//    members (or --seeds N, fixed) and grow, with the reference's, only while a verdict is open.
+//    members (or --seeds N, fixed; or --max-seeds if smaller) and grow, with the reference's, only
+//    while the verdict of a step that could be recommended is open, up to --max-seeds.
 // The cost of a step is the wall time of one run on one thread (a single run of the scene at
 // that step is what a user pays for); costs within a tenth, or of runs under 10 ms (clock noise),
 // are a tie, which fewer forces win.

@@ -56,6 +56,20 @@ void collect(const nlohmann::json& node, std::string_view path, std::vector<doub
   }
 }
 
+// Every run's own figures in summary.json, whatever its report: the mean contacts per particle
+// (sampled at the frames) and each wall's mean loads over the run (force: a list of x and y).
+std::vector<std::string> run_quantities(const Scene& scene) {
+  std::vector<std::string> q = {"mean_contacts"};
+  for (const Wall& w : scene.walls)
+    for (const char* load : {"mean_torque", "mean_power", "mean_force"}) q.push_back("walls." + w.name + "." + load);
+  return q;
+}
+
+bool is_run_quantity(const Scene& scene, const std::string& quantity) {
+  const auto q = run_quantities(scene);
+  return std::find(q.begin(), q.end(), quantity) != q.end();
+}
+
 }  // namespace
 
 std::vector<std::string> study_quantities(const Scene& scene) {
@@ -64,6 +78,7 @@ std::vector<std::string> study_quantities(const Scene& scene) {
   for (const std::string& r : scene.report)
     for (const ObserverKey& k : find_observer(r)->keys)
       if (k.kind != ObserverKey::Kind::text && k.written_in(scene)) q.push_back(k.path);
+  for (const std::string& r : run_quantities(scene)) q.push_back(r);
   return q;
 }
 
@@ -77,6 +92,9 @@ std::vector<std::string> headline_quantities(const Scene& scene) {
 
 QuantityShape shape_of(const Scene& scene, const std::string& quantity) {
   const ObserverKey* k = reported_key(scene, quantity);
+  if (!k && is_run_quantity(scene, quantity))
+    return quantity.size() > 10 && quantity.substr(quantity.size() - 10) == "mean_force" ? QuantityShape::list
+                                                                                         : QuantityShape::number;
   if (!k) return QuantityShape::field;
   return k->kind == ObserverKey::Kind::number ? QuantityShape::number : QuantityShape::list;
 }
@@ -114,6 +132,13 @@ std::vector<double> quantity_value(const std::string& quantity, const FinalField
   if (quantity == "velocity") return fields.velocity;
   if (quantity == "temperature") return fields.temperature;
   std::vector<double> values;
+  if (quantity.rfind("walls.", 0) == 0) {  // walls.<name>.<load>: the wall of that name (a name may hold dots)
+    const size_t load = quantity.rfind('.');
+    const std::string name = quantity.substr(6, load - 6);
+    for (const nlohmann::json& w : summary.at("walls"))
+      if (w.at("name") == name) collect(w, quantity.substr(load + 1), values);
+    return values;
+  }
   collect(summary, quantity, values);
   return values;
 }
@@ -127,13 +152,15 @@ void run_one(const std::string& path, const std::vector<std::string>& base_sets,
   sets.push_back(assignment(heat_stage ? "freeze.dt" : "dt", run.dt));
   sets.push_back(assignment("t_end", t_end));
   sets.insert(sets.end(), run.sets.begin(), run.sets.end());
+  const auto started = std::chrono::steady_clock::now();
   try {
     // One frame at the end (no steps shortened to land on frames), unless the scene freezes or
     // stops by its kinetic energy (checked at its frames), or the quantity is a report's: the
     // observers sample at the frames, and a discharge rate, a dynamic angle of repose or an
     // effective friction over a window of the run was not measured from two samples.
     Scene scene = load_scene(path, sets);
-    if (!scene.freeze.enabled && scene.stop_kinetic_energy == 0 && !reported_key(scene, q)) scene.output_interval = t_end;
+    if (!scene.freeze.enabled && scene.stop_kinetic_energy == 0 && !reported_key(scene, q) && q != "mean_contacts")
+      scene.output_interval = t_end;
     const int runs = run.repeats > 1 ? run.repeats + 1 : 1;  // a warm-up first when timing
     const StabilityEstimate estimate = estimate_stability(scene);  // once for the repeats
     double best = INFINITY;
@@ -158,6 +185,10 @@ void run_one(const std::string& path, const std::vector<std::string>& base_sets,
   } catch (const std::exception& e) {
     run.failure = e.what();
   }
+  // A failed run cost its time too (a study's budget counts it): timed here, as the summary that
+  // times a run is not written for one that fails.
+  if (!run.failure.empty())
+    run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 }
 
 // What one run of `runs` costs, relative to the others: its steps, times its timed repeats.

@@ -24,7 +24,7 @@ struct StudyRun {
   // Results.
   std::vector<double> value;  // the studied quantity at the end
   long rhs_evals = 0;
-  double seconds = 0;         // wall time (the minimum over the repeats)
+  double seconds = 0;         // wall time (the minimum over the repeats; a failed run's until it failed)
   bool unstable = false;      // stopped by a stability check
   std::string failure;        // why it failed, if it did
   nlohmann::json at_end;      // that limit (src/run/stability.h limit_json), when asked and it ran to the end
@@ -39,7 +39,9 @@ void run_study(const std::string& scene, const std::vector<std::string>& sets, d
                std::vector<StudyRun>& runs, int threads, bool quiet = true, bool heat_stage = false);
 
 // Quantities a scene can be studied on: its state fields, then every number and list its report:
-// adds (the observer catalogue's keys, src/scene/observer_catalogue.h). A list (bounce heights,
+// adds (the observer catalogue's keys, src/scene/observer_catalogue.h), then every run's own
+// figures: mean_contacts and, per wall, walls.<name>.mean_torque, mean_power and mean_force (a
+// list of x and y), the loads averaged over the run as summary.json gives them. A list (bounce heights,
 // layers, walls) is compared as the fields are, as a vector: max abs over its elements, over those
 // both runs have when their lengths differ.
 std::vector<std::string> study_quantities(const Scene& scene);

@@ -45,7 +45,7 @@ std::string ensemble_sweep(const SweepOptions& o, const std::vector<double>& dts
         continue;
       }
       const Ensemble stats = ensemble_of(values, e.level);
-      nlohmann::json row = {{"dt", dts[k]}, {"ensemble", ensemble_json(stats)}};
+      nlohmann::json row = {{"dt", dts[k]}, {"ensemble", ensemble_json(values, e.level)}};
       std::string says = k == 0 ? "(the reference)" : "(no reference: the smallest step has no values)";
       if (k > 0 && !reference.empty()) {
         const Bias bias = paired_bias(values, reference, e.level, e.power);

@@ -73,7 +73,7 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
   if (ensemble) {
     out["ensemble"] = ensemble_settings_json(o.ensemble, members, member_numbers);
     out["reference_point"] = {{"integrator", o.integrators.front()}, {adaptive ? "rtol" : "dt", finest},
-                              {"statistics", ensemble_json(ensemble_of(reference_members, o.ensemble.level))}};
+                              {"statistics", ensemble_json(reference_members, o.ensemble.level)}};
     out["reference_value"] = reference.front();
   }
   std::vector<std::string> header = {"integrator", adaptive ? "rtol" : "dt", "error", "wall_seconds", "rhs_evals"};
@@ -117,7 +117,7 @@ nlohmann::json run_work_precision(const WorkPrecisionOptions& o_in) {
         const std::vector<double> values = member_values(point);
         const Bias bias = paired_bias(values, reference_members, o.ensemble.level, o.ensemble.power);
         e = std::abs(bias.estimate);
-        statistics.push_back({{"ensemble", ensemble_json(ensemble_of(values, o.ensemble.level))},
+        statistics.push_back({{"ensemble", ensemble_json(values, o.ensemble.level)},
                               {"bias", bias_json(bias, o.ensemble.tolerance)}});
         cells = format("   %10.2e", (bias.high - bias.low) / 2);
         verdict = "   " + describe(bias, o.ensemble.tolerance);

@@ -379,3 +379,29 @@ TEST_CASE("a study measures a report's quantity as a run of the scene does, its 
   const double expected = run_scene(direct, {"", true})["dynamic_angle_of_repose_deg"].get<double>();
   CHECK(runs[0].value.front() == expected);
 }
+
+TEST_CASE("every run's own figures can be studied: a wall's mean torque, power and force by its name, and the mean contacts",
+          "[study]") {
+  // The mill's torque and power draw were in summary.json only, out of the studies' reach.
+  const std::string scene = testing::case_path("t6_drum.yaml");
+  const std::vector<std::string> sets = {"particles.0.fill.count=40", "output_interval=0.01"};
+  const Scene base = load_scene(scene, sets);
+  for (const char* q : {"walls.drum.mean_torque", "walls.drum.mean_power", "mean_contacts"})
+    CHECK(shape_of(base, q) == QuantityShape::number);
+  CHECK(shape_of(base, "walls.drum.mean_force") == QuantityShape::list);
+  CHECK_THROWS_WITH(check_quantity(base, "walls.drun.mean_torque"), Catch::Contains("'walls.drum.mean_torque'"));
+  const Scene direct = load_scene(scene, {"particles.0.fill.count=40", "output_interval=0.01", "t_end=0.05", "dt=2e-5"});
+  const nlohmann::json summary = run_scene(direct, {"", true});
+  for (const char* q : {"walls.drum.mean_torque", "walls.drum.mean_force", "mean_contacts"}) {
+    INFO(q);
+    std::vector<StudyRun> runs = {StudyRun("velocity-verlet", 2e-5)};
+    run_study(scene, sets, 0.05, q, runs, 1);
+    REQUIRE(runs[0].failure.empty());
+    const std::string key = std::string(q).substr(std::string(q).rfind('.') + 1);
+    const nlohmann::json expected = key == "mean_contacts" ? summary["mean_contacts"] : summary["walls"][0][key];
+    if (expected.is_array())
+      CHECK(runs[0].value == expected.get<std::vector<double>>());
+    else
+      CHECK(runs[0].value == std::vector<double>{expected.get<double>()});
+  }
+}
