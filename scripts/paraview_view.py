@@ -72,7 +72,7 @@ def show(run_dir, field=None, time=None, screenshot=None, size=(1200, 900)):
     for name in ('result.h5', 'result.xdmf'):
         if not os.path.isfile(os.path.join(run_dir, name)):
             killed = os.path.exists(os.path.join(run_dir, 'result.h5.tmp')) or \
-                os.path.exists(os.path.join(run_dir, 'result.h5.killed'))
+                os.path.exists(os.path.join(run_dir, 'result.h5.unfinished'))
             raise ViewError('%s has no %s: %s' % (run_dir, name, 'a run that did not finish (resume it with kiln run '
                                                   '--restart DIR/checkpoint.h5)' if killed else
                                                   'not a kiln run directory (kiln run writes out/<scene name>/)'))

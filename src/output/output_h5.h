@@ -72,6 +72,9 @@ class H5Frames {
                    const double* fixed_segments);
   void append(const H5Frame& f);  // then a flush
   void write_table(const ResultTable& table);  // replaces a table of that name (a resumed run's)
+  // Room for what closing writes (tables, frame views), taken before any of it is: a full disk
+  // then fails before HDF5 writes, and the frames stay readable.
+  void reserve_for_closing(const std::vector<ResultTable>& tables);
   // /frames/k/<name> for every frame k and dataset of frames but `time`: frame k as a dataset of its
   // own (a virtual one, no copy), which result.xdmf reads. At the end of a run: each frame once.
   void write_frame_views();
@@ -84,6 +87,11 @@ class H5Frames {
   std::vector<double> times() const { return read(FrameField::time); }
   void close();    // checked: the last writes may fail here
   void abandon();  // closes without checking (a run that failed: the file is removed)
+  // After a write failed (a full disk): leaves the file as its last successful flush wrote it, as
+  // a killed run leaves it, by dropping its handles unclosed: closing would write HDF5's cached
+  // metadata, which on a full disk lands in part. The process is to end soon: the handles are not
+  // reused, and kiln turns HDF5's exit handler off (h5_setup).
+  void leave_as_flushed();
 
  private:
   struct Shape {
@@ -97,6 +105,8 @@ class H5Frames {
   hid_t create(const Shape& s);
   hid_t open(const Shape& s, int keep);
   void drop_frame_views(int keep);  // those of the frames after `keep`
+  void reserve_room(size_t bytes, const std::string& what);  // before HDF5 writes (output_h5.cpp)
+  size_t frame_bytes() const;
   void extend_and_write(FrameField f, const double* data);
   void units(hid_t object, const char* units, const std::string& dataset);
   void write_array(const char* name, hid_t type, int rank, const hsize_t* dims, const void* data, const char* units);

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
 #include <stdexcept>
 
@@ -23,7 +24,7 @@ namespace fs = std::filesystem;
 const std::vector<std::string>& RunOutputs::names() {
   static const std::vector<std::string> n = {"result.h5",    "result.h5.tmp",   "result.xdmf",    "result.xdmf.tmp",
                                              "summary.json", "summary.json.tmp", "picture.png",    "picture.png.tmp",
-                                             "checkpoint.h5", "checkpoint.h5.tmp", "result.h5.killed",
+                                             "checkpoint.h5", "checkpoint.h5.tmp", "result.h5.unfinished",
                                              "wall_loads.csv", "wall_loads.csv.tmp", "units.csv", "units.csv.tmp",
                                              // drawn from a run's results (movie.h, scripts/plot_case.py)
                                              "movie",         "movie.tmp",         "movie.mp4",        "movie.mp4.tmp",
@@ -95,7 +96,7 @@ bool RunOutputs::running_in(const std::string& dir) {
 }
 
 RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id)
-    : dir_(dir), sys_(sys), layout_(result_layout(sys)), pieces_(pieces_of_segments(sys)) {
+    : dir_(dir), sys_(sys), layout_(result_layout(sys)), pieces_(pieces_of_segments(sys)), run_id_(run_id) {
   lock_directory();
   move_aside(dir_);
   try {
@@ -131,26 +132,31 @@ RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::
 
 RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id, int frames,
                        const Snapshot& checkpoint)
-    : dir_(dir), sys_(sys), layout_(result_layout(sys)), pieces_(pieces_of_segments(sys)), resumed_from_(&checkpoint) {
+    : dir_(dir),
+      sys_(sys),
+      layout_(result_layout(sys)),
+      pieces_(pieces_of_segments(sys)),
+      run_id_(run_id),
+      resumed_from_(&checkpoint) {
   lock_directory();
   // The result holding this run's frames up to the checkpoint: the result.h5.tmp of a killed run
-  // (a killed resumed run's holds more than result.h5), the frames of a killed run kept by an
-  // earlier restart (result.h5.killed), or the published result.h5.
+  // (a killed resumed run's holds more than result.h5), the frames of a killed or failed run kept
+  // by an earlier restart or by the run itself (result.h5.unfinished), or the published result.h5.
   std::string original;
-  for (const char* name : {"result.h5.tmp", "result.h5.killed", "result.h5"})
+  for (const char* name : {"result.h5.tmp", "result.h5.unfinished", "result.h5"})
     if (fs::exists(path(name)) && H5Frames::frames_of_run(path(name), run_id) >= frames) {
       original = name;
       break;
     }
   if (original.empty())
-    throw InputError(dir_ + ": none of result.h5, result.h5.tmp (a killed run's) and result.h5.killed holds the " +
+    throw InputError(dir_ + ": none of result.h5, result.h5.tmp (a killed run's) and result.h5.unfinished holds the " +
                      std::to_string(frames) + " frames of run '" + run_id +
                      "' that the checkpoint continues: a result of another run, or frames lost");
   std::error_code error;
   if (original == "result.h5.tmp") {  // kept under a name of its own while a copy is extended
-    fs::rename(path("result.h5.tmp"), path("result.h5.killed"), error);
+    fs::rename(path("result.h5.tmp"), path("result.h5.unfinished"), error);
     if (error) throw OutputError("cannot rename " + path("result.h5.tmp") + ": " + error.message());
-    original = "result.h5.killed";
+    original = "result.h5.unfinished";
   }
   fs::copy_file(path(original), path("result.h5.tmp"), fs::copy_options::overwrite_existing, error);
   try {
@@ -171,11 +177,16 @@ RunOutputs::~RunOutputs() {
   if (lock_ >= 0) ::close(lock_);  // the lock goes last, after every file is in place
 }
 
+namespace {
+// What a run writes on its way to publishing, besides its frames.
+const char* const publication_temporaries[] = {"result.xdmf.tmp",    "summary.json.tmp", "picture.png.tmp",
+                                               "checkpoint.h5.tmp",  "wall_loads.csv.tmp", "units.csv.tmp"};
+}  // namespace
+
 void RunOutputs::clean_up() {
   h5_->abandon();
-  for (const char* name : {"result.h5.tmp", "result.xdmf.tmp", "summary.json.tmp", "picture.png.tmp",
-                           "checkpoint.h5.tmp", "wall_loads.csv.tmp", "units.csv.tmp"})
-    std::remove(path(name).c_str());
+  std::remove(path("result.h5.tmp").c_str());
+  for (const char* name : publication_temporaries) std::remove(path(name).c_str());
   if (!checkpointed_) return;
   if (!resumed_from_) {
     std::remove(path("checkpoint.h5").c_str());  // only of use beside the frames it continues
@@ -185,6 +196,38 @@ void RunOutputs::clean_up() {
     resumed_from_->write(path("checkpoint.h5"));  // the one that matches the original's frames
   } catch (const std::exception&) {
     // A later checkpoint is left: a restart from it reports the frames it misses.
+  }
+}
+
+std::string RunOutputs::keep_finished_work() {
+  if (done_ || !h5_) return "";
+  h5_->leave_as_flushed();  // every frame up to the last flushed one, as a killed run leaves them
+  for (const char* name : publication_temporaries) std::remove(path(name).c_str());
+  // The frames are of use only with the checkpoint that continues them: a checkpoint follows the
+  // flush of every frame it counts.
+  std::error_code error;
+  if (checkpointed_) fs::rename(path("result.h5.tmp"), path("result.h5.unfinished"), error);
+  if (!checkpointed_ || error) {
+    clean_up();
+    done_ = true;
+    return resumed_from_ ? "; the result and the checkpoint it resumed from are as they were" : "";
+  }
+  done_ = true;
+  std::ostringstream kept;
+  kept << "; kept: " << checkpoint_frames_ << " frames in " << path("result.h5.unfinished") << " and "
+       << path("checkpoint.h5") << " (t = " << checkpoint_time_ << " s): once there is room, `kiln run --restart "
+       << path("checkpoint.h5") << "` finishes the run";
+  return kept.str();
+}
+
+bool RunOutputs::published(const std::string& dir, const std::string& run_id, double t) {
+  std::ifstream in(fs::path(dir) / "summary.json");
+  if (!in) return false;
+  try {
+    const nlohmann::json s = nlohmann::json::parse(in);
+    return s.value("run_id", std::string()) == run_id && s.value("t_end", -HUGE_VAL) >= t;  // HUGE_VAL: a double
+  } catch (const std::exception&) {
+    return false;
   }
 }
 
@@ -401,10 +444,13 @@ PictureInput RunOutputs::picture(double t, const double* y, const std::string& t
 void RunOutputs::checkpoint(const Snapshot& s) {
   s.write(path("checkpoint.h5"));
   checkpointed_ = true;
+  checkpoint_frames_ = static_cast<int>(s.integer("frames"));
+  checkpoint_time_ = s.real("time");
 }
 
 void RunOutputs::finish(double t, const double* y, const nlohmann::json& summary, const std::string& title,
                         const std::vector<ResultTable>& tables) {
+  h5_->reserve_for_closing(tables);
   for (const ResultTable& table : tables) h5_->write_table(table);
   h5_->write_frame_views();
   const std::string loads = layout_.walls > 0 ? wall_loads_csv() : "";
@@ -418,9 +464,10 @@ void RunOutputs::finish(double t, const double* y, const nlohmann::json& summary
   write_file(path("units.csv.tmp"), units_table(layout_));
   // A byte that is not UTF-8 (which the scene reader refuses) must not lose the run here.
   write_file(path("summary.json.tmp"), summary.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
-  for (const char* name : {"result.h5", "result.xdmf", "units.csv", "picture.png", "summary.json", "wall_loads.csv"})
+  // summary.json last: it says the run was published (a run killed before it resumes to publish).
+  for (const char* name : {"result.h5", "result.xdmf", "units.csv", "picture.png", "wall_loads.csv", "summary.json"})
     if (layout_.walls > 0 || std::string(name) != "wall_loads.csv") publish(path(std::string(name) + ".tmp"), path(name));
-  std::remove(path("result.h5.killed").c_str());  // a resumed killed run's frames, now in result.h5
+  std::remove(path("result.h5.unfinished").c_str());  // a resumed run's earlier frames, now in result.h5
   done_ = true;
 }
 

@@ -3,12 +3,16 @@
 //
 // While the run goes, frames go to result.h5.tmp, flushed at every frame; checkpoints are written
 // whole and renamed. When the run ends (at t_end, at rest, or stopped by a signal) everything is
-// published under its final name. A run that fails removes what it wrote and publishes nothing;
-// a run killed outright (SIGKILL, power) leaves result.h5.tmp with its finished frames readable
-// and its last checkpoint, from which `kiln run --restart` goes on.
+// published under its final name. A run that fails a check removes what it wrote and publishes
+// nothing. A run whose output fails (a full disk) keeps what it finished for `kiln run --restart`
+// once there is room: its frames as result.h5.unfinished (when HDF5 still reads every frame of its
+// last checkpoint) and that checkpoint, and says so. A run killed outright (SIGKILL, power) leaves
+// result.h5.tmp with its finished frames readable and its last checkpoint, from which
+// `kiln run --restart` goes on. A checkpoint at t_end whose run did not publish (killed or failed
+// while publishing) resumes to publish.
 //
-// A resumed run appends to a copy (result.h5.tmp) of its result: result.h5, or result.h5.killed,
-// the frames a killed run left (its result.h5.tmp, renamed). The original is replaced only when
+// A resumed run appends to a copy (result.h5.tmp) of its result: result.h5, or result.h5.unfinished,
+// the frames a killed or failed run left (its result.h5.tmp, renamed). The original is replaced only when
 // the resumed run ends; one that fails leaves it, and the checkpoint it resumed from, as they were
 // (a write that fails on a full disk can leave an HDF5 file unreadable, so the file holding finished
 // frames is never written in place).
@@ -19,6 +23,7 @@
 // A new run first moves the results of an earlier run in the same directory into previous/
 // (replacing what an even earlier run left there), so that nothing of two runs lies side by side.
 #pragma once
+#include <cmath>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -62,6 +67,14 @@ class RunOutputs {
   int frames() const { return h5_->frames(); }
   void checkpoint(const Snapshot& s);
   std::string checkpoint_path() const { return path("checkpoint.h5"); }
+  // The time of the last frame written (-inf before the first).
+  double last_frame_time() const { return times_.empty() ? -INFINITY : times_.back(); }
+  // After an output failed: keeps what the run finished (see above) and ends the run's writing;
+  // returns what was kept, for the message ("" when nothing could be).
+  std::string keep_finished_work();
+  // Whether summary.json in `dir` says that run `run_id` was published at time t or later: a
+  // checkpoint at t_end of a run that was not is resumed to publish it.
+  static bool published(const std::string& dir, const std::string& run_id, double t);
   void finish(double t, const double* y, const nlohmann::json& summary, const std::string& title,
               const std::vector<ResultTable>& tables = {});
 
@@ -95,6 +108,9 @@ class RunOutputs {
   std::vector<double> segments_, wall_force_, wall_torque_, wall_power_;
   std::vector<double> wrapped_;  // periodic cells: positions wrapped into the cell
   bool checkpointed_ = false;  // this run wrote checkpoint.h5
+  int checkpoint_frames_ = 0;   // the frames its latest checkpoint continues
+  double checkpoint_time_ = 0;
+  std::string run_id_;
   bool done_ = false;
   const Snapshot* resumed_from_ = nullptr;  // a resumed run's checkpoint
   int lock_ = -1;                            // the directory's .kiln.lock, held while the run writes

@@ -129,6 +129,7 @@ class SceneRun {
   nlohmann::json go();
 
  private:
+  nlohmann::json run_and_publish();
   enum class Ended { at_end, at_rest, frozen, signal };
   enum Phase { mechanics_stage = 0, heat_stage = 1 };  // the stages of a run (not of a step)
   void start_fresh();
@@ -248,8 +249,22 @@ void SceneRun::start_fresh() {
 }
 
 nlohmann::json SceneRun::go() {
+  try {
+    return run_and_publish();
+  } catch (const OutputError& e) {
+    // A full disk: what the run finished stays, for a restart once there is room.
+    if (files_) throw OutputError(e.what() + files_->keep_finished_work());
+    throw;
+  }
+}
+
+nlohmann::json SceneRun::run_and_publish() {
   if (options_.resume) {
     resume(*options_.resume);
+    // Checkpointed at t_end but not published (its output failed, or it was killed while
+    // publishing): its last frame, which followed that checkpoint, is written again.
+    if (files_ && t_ >= scene_.t_end - 1e-9 * stage_dt_ && files_->last_frame_time() < t_ - 1e-9 * stage_dt_)
+      at_frame(stage_ == mechanics_stage && !scene_.frozen, true);
   } else {
     start_fresh();
   }
@@ -546,14 +561,16 @@ void SceneRun::parts(SnapshotFields& f) {
 
 void SceneRun::resume(const Snapshot& s) {
   const double t = s.real("time");
-  if (!(scene_.t_end > t))
-    throw InputError("the checkpoint is at t = " + std::to_string(t) + " s: give a later --t-end to go on");
   const std::vector<double>& state_vector = s.reals("state");
   if (state_vector.size() != y_.size())
     throw InputError("the checkpoint's state has " + std::to_string(state_vector.size()) + " components, this scene's " +
                      std::to_string(y_.size()));
   SnapshotFields fields(s, "");
   state(fields);
+  // At t_end, a run that was not published (its output failed, or it was killed publishing) is
+  // resumed to publish it.
+  if (!(scene_.t_end > t) && (options_.out_dir.empty() || RunOutputs::published(options_.out_dir, run_id_, t)))
+    throw InputError("the checkpoint is at t = " + std::to_string(t) + " s: give a later --t-end to go on");
   parts(fields);
   if (!options_.out_dir.empty())
     files_ = std::make_unique<RunOutputs>(options_.out_dir, system_, run_id_, static_cast<int>(s.integer("frames")), s);

@@ -323,21 +323,68 @@ TEST_CASE("a run killed outright leaves its finished frames readable and resumes
   fs::remove_all(dir);
 }
 
-TEST_CASE("a full disk ends the run with one message naming the file, exit 4, nothing published, no temporaries",
-          "[outputs]") {
-  // 200 KiB per file: result.h5 of the drum passes it after a few dozen frames.
-  const fs::path dir = testing::fresh_dir("full");
-  const Outcome o = run_kiln({"run", drum, "--t-end", "0.2", "--set", "output_interval=0.001", "--quiet", "--out",
-                              dir.string()},
-                             200 * 1024);
-  CHECK(o.signal == 0);  // no SIGSEGV in HDF5's exit handler
-  CHECK(o.exit_code == 4);
-  CHECK(o.err.find("result.h5.tmp") != std::string::npos);
-  CHECK(std::count(o.err.begin(), o.err.end(), '\n') == 1);  // one message, not HDF5's error stack
-  for (const char* name : {"result.h5", "summary.json", "picture.png", "result.xdmf", "checkpoint.h5"})
-    CHECK_FALSE(fs::exists(dir / name));
-  for (const auto& entry : fs::directory_iterator(dir)) CHECK(entry.path().extension() != ".tmp");
+TEST_CASE("a full disk ends the run with one message naming the file and what it kept; with room, the restart "
+          "finishes it bit for bit", "[outputs]") {
+  // A full disk removed the whole run, every checkpoint included, even when every step had
+  // finished. Now it keeps the frames (result.h5.unfinished, readable) and the last checkpoint.
+  // Files capped (as a disk fills) early (only the start's checkpoint), mid-run, and at the close,
+  // when every frame is written and the tables and views are not.
+  const fs::path whole = testing::fresh_dir("full_whole");
+  const std::vector<std::string> sets = {"output_interval=0.001", "t_end=0.06"};
+  run_whole(sets, whole);
+  // At the close: every frame fits, and the 0.6 MB the close reserves does not (its views take
+  // about 0.3 MB of the whole 2.0 MB).
+  const long closing = static_cast<long>(fs::file_size(whole / "result.h5")) - 300 * 1024;
+  for (const long limit : {200L * 1024, 700L * 1024, closing}) {
+    CAPTURE(limit);
+    const fs::path dir = testing::fresh_dir("full");
+    const Outcome o = run_kiln({"run", drum, "--t-end", "0.06", "--set", "output_interval=0.001", "--checkpoint-every",
+                                "0.01", "--quiet", "--out", dir.string()},
+                               limit);
+    CHECK(o.signal == 0);  // no SIGSEGV in HDF5's exit handler
+    CHECK(o.exit_code == 4);
+    CHECK(o.err.find("result.h5.tmp") != std::string::npos);
+    CHECK(o.err.find("kept: ") != std::string::npos);
+    CHECK(std::count(o.err.begin(), o.err.end(), '\n') == 1);  // one message, not HDF5's error stack
+    for (const char* name : {"result.h5", "summary.json", "picture.png", "result.xdmf"}) CHECK_FALSE(fs::exists(dir / name));
+    for (const auto& entry : fs::directory_iterator(dir)) CHECK(entry.path().extension() != ".tmp");
+    REQUIRE(fs::exists(dir / "checkpoint.h5"));
+    CHECK_FALSE(testing::read_dataset(dir / "result.h5.unfinished", "time").empty());  // readable
+    REQUIRE(run_kiln({"run", "--restart", (dir / "checkpoint.h5").string(), "--quiet"}).exit_code == 0);
+    CHECK(same_bits(frames_of(whole / "result.h5"), frames_of(dir / "result.h5")));
+    CHECK_FALSE(fs::exists(dir / "result.h5.unfinished"));
+    fs::remove_all(dir);
+  }
+  fs::remove_all(whole);
+}
+
+TEST_CASE("a run killed while publishing resumes to publish; a published run is not resumed at its end",
+          "[outputs][checkpoint]") {
+  // A kill during the final publication left frames that --restart refused ("give a later
+  // --t-end"). The states a kill can leave there: nothing renamed yet (result.h5.tmp, complete),
+  // or result.h5 renamed and summary.json (published last) not.
+  const fs::path whole = testing::fresh_dir("publish_whole"), dir = testing::fresh_dir("publish");
+  const std::vector<std::string> sets = {"output_interval=0.004", "t_end=0.02"};
+  run_whole(sets, whole);
+  for (const bool renamed : {false, true}) {
+    CAPTURE(renamed);
+    fs::remove_all(dir);
+    run_whole(sets, dir);
+    for (const char* name : {"summary.json", "result.xdmf", "picture.png", "units.csv", "wall_loads.csv"})
+      fs::remove(dir / name);
+    if (!renamed) fs::rename(dir / "result.h5", dir / "result.h5.tmp");
+    const Outcome r = run_kiln({"run", "--restart", (dir / "checkpoint.h5").string(), "--quiet"});
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    CHECK(same_bits(frames_of(whole / "result.h5"), frames_of(dir / "result.h5")));
+    CHECK(fs::exists(dir / "summary.json"));
+    CHECK(fs::exists(dir / "result.xdmf"));
+  }
+  const Outcome again = run_kiln({"run", "--restart", (dir / "checkpoint.h5").string(), "--quiet"});
+  CHECK(again.exit_code == 2);
+  CHECK(again.err.find("give a later --t-end") != std::string::npos);
   fs::remove_all(dir);
+  fs::remove_all(whole);
 }
 
 TEST_CASE("a text output that cannot be written is an OutputError naming the file and its partial file is removed",
@@ -523,7 +570,7 @@ TEST_CASE("a second run into a directory in use is refused; a killed resumed run
   REQUIRE(killed.signal == SIGKILL);
   REQUIRE(run_kiln({"run", "--restart", (dir / "checkpoint.h5").string(), "--t-end", "0.08", "--quiet"}).exit_code == 0);
   CHECK(same_bits(frames_of(whole / "result.h5"), frames_of(dir / "result.h5")));
-  CHECK_FALSE(fs::exists(dir / "result.h5.killed"));
+  CHECK_FALSE(fs::exists(dir / "result.h5.unfinished"));
   fs::remove_all(dir);
   fs::remove_all(whole);
 }
