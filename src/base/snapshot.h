@@ -4,7 +4,10 @@
 // through one list of its fields (SnapshotFields).
 // The file: groups /real (float64 arrays), /integer (int64 arrays), /text (bytes), one dataset per key.
 #pragma once
+#include <algorithm>
+#include <initializer_list>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -26,9 +29,10 @@ class Snapshot {
 
   // Each throws InputError naming the file and the key when the snapshot lacks it.
   const std::vector<double>& reals(const std::string& key) const;
-  double real(const std::string& key) const { return reals(key).at(0); }
+  // One value: an array of another length is refused by name.
+  double real(const std::string& key) const { return one(reals(key), key); }
   const std::vector<long long>& integers(const std::string& key) const;
-  long long integer(const std::string& key) const { return integers(key).at(0); }
+  long long integer(const std::string& key) const { return one(integers(key), key); }
   template <class T>
   void get_integers(const std::string& key, std::vector<T>& out) const {
     const std::vector<long long>& v = integers(key);
@@ -39,6 +43,16 @@ class Snapshot {
   std::vector<std::string> real_keys() const {
     std::vector<std::string> keys;
     for (const auto& entry : reals_) keys.push_back(entry.first);
+    return keys;
+  }
+  std::vector<std::string> integer_keys() const {
+    std::vector<std::string> keys;
+    for (const auto& entry : integers_) keys.push_back(entry.first);
+    return keys;
+  }
+  std::vector<std::string> text_keys() const {
+    std::vector<std::string> keys;
+    for (const auto& entry : texts_) keys.push_back(entry.first);
     return keys;
   }
   bool has(const std::string& key) const {
@@ -57,6 +71,12 @@ class Snapshot {
   static Snapshot read(const std::string& path);
 
  private:
+  template <class V>
+  typename V::value_type one(const V& v, const std::string& key) const {
+    if (v.size() != 1)
+      throw layout_error(source_, "holds " + std::to_string(v.size()) + " values in '" + key + "' where 1 belongs");
+    return v[0];
+  }
   void verify_checksums();
   std::string source_;  // the file it was read from, for messages
   std::map<std::string, std::vector<double>> reals_;
@@ -89,6 +109,14 @@ class SnapshotFields {
     if (out_) out_->put_text(prefix_ + key, v);
     else v = in_->text(prefix_ + key);
   }
+  // A JSON document (statistics), as its text; one that does not parse is refused by name.
+  void field(const std::string& key, nlohmann::json& v) {
+    std::string text = out_ ? v.dump() : std::string();
+    field(key, text);
+    if (out_) return;
+    v = nlohmann::json::parse(text, nullptr, false);
+    if (v.is_discarded()) throw Snapshot::layout_error(in_->source(), "holds no JSON document in '" + prefix_ + key + "'");
+  }
   void field(const std::string& key, bool& v) {
     long long i = v;
     integers(key, i);
@@ -102,6 +130,17 @@ class SnapshotFields {
   void field(const std::string& key, std::vector<T>& v) requires std::is_integral_v<T> {
     if (out_) out_->put_integers(prefix_ + key, v);
     else in_->get_integers(prefix_ + key, v);
+  }
+  // An array of a length the reader knows (one value per particle, per contact): read with any
+  // other is refused by name, before anything indexes it.
+  template <class T>
+  void field(const std::string& key, std::vector<T>& v, std::initializer_list<size_t> lengths) {
+    field(key, v);
+    if (out_ || std::find(lengths.begin(), lengths.end(), v.size()) != lengths.end()) return;
+    std::string allowed;
+    for (size_t n : lengths) allowed += (allowed.empty() ? "" : " or ") + std::to_string(n);
+    throw Snapshot::layout_error(in_->source(), "holds " + std::to_string(v.size()) + " values in '" + prefix_ + key +
+                                                    "' where " + allowed + " belong");
   }
   // Several scalars in one array under one key, in this order.
   template <class... T>

@@ -137,31 +137,34 @@ std::vector<contact::ContactFrame> unflatten(const std::vector<double>& v) {
 
 void ContactList::state(SnapshotFields& f) {
   f.field("i", i);
-  f.field("j", j);
-  f.field("law", law);
-  f.field("active", active);
+  // Every other array holds one value per contact (four per contact frame), or none where it is
+  // optional (rolling springs, integrated paths).
+  const size_t n = i.size();
+  f.field("j", j, {n});
+  f.field("law", law, {n});
+  f.field("active", active, {n});
   if (!f.saving()) {
     for (uint8_t a : active)
       if (a > 3) throw InputError("the checkpoint's contact list has an acting state that is none of 0 to 3");
     load_margin.assign(load_events ? active.size() : 0, 1.0);
   }
-  f.field("k", k);
-  f.field("c", c);
+  f.field("k", k, {n});
+  f.field("c", c, {n});
   if (!history) return;
-  f.field("spring", spring);
-  f.field("trial", trial);
-  f.field("roll", roll);
-  f.field("trial_roll", trial_roll);
-  f.field("path", path);
-  f.field("trial_path", trial_path);
-  f.field("mode", mode);
+  f.field("spring", spring, {n});
+  f.field("trial", trial, {n});
+  f.field("roll", roll, {0, n});
+  f.field("trial_roll", trial_roll, {0, n});
+  f.field("path", path, {0, n});
+  f.field("trial_path", trial_path, {0, n});
+  f.field("mode", mode, {n});
   if (!f.saving()) {
     margin.assign(mode.size(), 0.0);
     pull.assign(mode.size(), 0.0);
   }
   for (auto [key, frames] : {std::pair{"frame", &frame}, std::pair{"trial_frame", &trial_frame}}) {
     std::vector<double> flat = f.saving() ? flatten(*frames) : std::vector<double>{};
-    f.field(key, flat);
+    f.field(key, flat, {4 * n});
     if (!f.saving()) *frames = unflatten(flat);
   }
 }

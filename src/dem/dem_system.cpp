@@ -186,23 +186,26 @@ void DemSystem::state(SnapshotFields& f) {
   SnapshotFields pairs = f.within("pairs."), walls = f.within("walls.");
   pp_.state(pairs);
   pw_.state(walls);
-  f.field("reference_x", x_ref_);
-  f.field("reference_y", y_ref_);
+  const size_t n = n_;
+  f.field("reference_x", x_ref_, {n});
+  f.field("reference_y", y_ref_, {n});
   double skin = broadphase_.skin();
   f.reals("times", t_ref_, committed_time_, trial_time_, skin, max_overlap_fraction_);
   f.integers("counts", built_, rebuilds_, reorders_);
-  f.field("committed_angle", committed_angle_);
-  f.field("trial_angle", trial_angle_);
-  f.field("work_force", work_force_);
+  f.field("committed_angle", committed_angle_, {0, n});
+  f.field("trial_angle", trial_angle_, {0, n});
+  f.field("work_force", work_force_, {work_force_.size()});  // as the scene sizes it
   heat_work_state(f);
-  f.field("body_reference", body_ref_);
-  f.field("particle_at_slot", particle_at_);
+  f.field("body_reference", body_ref_, {static_cast<size_t>(bodies())});
+  f.field("particle_at_slot", particle_at_, {n});
   f.field("ranked_share", ranked_share_);
   if (f.saving()) return;
   broadphase_.set_skin(skin);
-  if (static_cast<int>(x_ref_.size()) != n_ || pp_.k.size() != pp_.i.size() || pw_.k.size() != pw_.i.size())
-    throw InputError("the checkpoint's contact lists do not fit this scene's " + std::to_string(n_) + " particles");
-  auto within = [](const std::vector<int>& v, int n) { return std::all_of(v.begin(), v.end(), [n](int k) { return k >= 0 && k < n; }); };
+  for (const ContactList* list : {&pp_, &pw_})
+    for (uint16_t law : list->law)
+      if (law >= laws_.size())
+        throw InputError("the checkpoint's contacts name a material pair this scene does not have");
+  auto within = [](const std::vector<int>& v, int count) { return std::all_of(v.begin(), v.end(), [count](int k) { return k >= 0 && k < count; }); };
   if (!within(pp_.i, n_) || !within(pp_.j, n_) || !within(pw_.i, n_) ||
       !within(pw_.j, static_cast<int>(scene_.segments.size())))
     throw InputError("the checkpoint's contacts name particles or wall segments this scene does not have");

@@ -16,6 +16,7 @@
 #pragma once
 #include <box2d/b2_dynamic_tree.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <type_traits>
 #include <vector>
@@ -70,6 +71,9 @@ class Broadphase {
 
  private:
   b2AABB box(double x0, double y0, double x1, double y1) const;
+  // Every disc's box into `tree`, along a Hilbert curve (broadphase.cpp says why); `order` is that curve's.
+  void insert_along_curve(b2DynamicTree& tree, const double* x, const double* y, const double* r, int n,
+                          std::vector<int>& order) const;
   // A particle's fat box: its disc's box around its anchor (where it was last inserted), widened
   // by this many base skins per side. Wider boxes keep more anchors' pairs, each tested exactly at
   // every rebuild (8 bytes each); narrower ones re-insert and query more particles. Chosen by
@@ -78,6 +82,7 @@ class Broadphase {
   double skin_, scale_;
   b2DynamicTree particles_;
   std::vector<int32> particle_proxy_;
+  std::vector<int> curve_;  // a first build's insertion order (a Hilbert curve), freed after it
   std::vector<double> anchor_x_, anchor_y_;
   // The anchors' pairs (a Verlet list of the anchors, sorted): pairs whose anchors are within the
   // skin and two margins per axis, for the skin and cell they were found with. A rebuild queries
@@ -113,15 +118,18 @@ template <class Visit>
 void Broadphase::scan_particle_pairs(const double* x, const double* y, const double* r, int n,
                                      const PeriodicCell& cell, Visit&& visit) const {
   b2DynamicTree tree;
-  for (int i = 0; i < n; ++i) tree.CreateProxy(box(x[i] - r[i], y[i] - r[i], x[i] + r[i], y[i] + r[i]), as_user_data(i));
+  std::vector<int> order;  // queried along the curve too: neighbouring queries walk the same nodes
+  insert_along_curve(tree, x, y, r, n, order);
+  std::vector<int> rank(n);  // a pair is taken from the query of its first along the curve
+  for (int k = 0; k < n; ++k) rank[order[k]] = k;
   const int kx = cell.x ? 1 : 0, ky = cell.y ? 1 : 0;
   const double lx = cell.x ? cell.length_x() : 0, ly = cell.y ? cell.length_y() : 0;
-  for (int i = 0; i < n; ++i) {
+  for (int i : order) {
     auto candidate = [&](int j) {
-      if (j <= i) return true;
+      if (rank[j] <= rank[i]) return true;
       const Vec2 d = cell.minimum_image(x[j] - x[i], y[j] - y[i]);
       const double reach = r[i] + r[j] + skin_;
-      return d.x * d.x + d.y * d.y >= reach * reach || visit(i, j);
+      return d.x * d.x + d.y * d.y >= reach * reach || visit(std::min(i, j), std::max(i, j));
     };
     // Disc j within the skin of disc i has its box overlapping i's box widened by the skin.
     const double reach = r[i] + skin_;

@@ -509,19 +509,18 @@ void SceneRun::state(SnapshotFields& f) {
   double wall = saving ? wall_before_ + seconds_since(wall_start_) : 0;
   f.field("wall_seconds", wall);
   std::vector<double> stages = saving ? profile().values() : std::vector<double>{};
-  f.field("profile", stages);
+  f.field("profile", stages, {profile().values().size()});
   std::vector<double> initial = saving ? ledger_values(initial_) : std::vector<double>{};
-  f.field("initial_ledger", initial);
+  f.field("initial_ledger", initial, {ledger_values(initial_).size()});
   f.field("history.time", history_time_);
-  f.field("history.balance_error", history_error_);
+  f.field("history.balance_error", history_error_, {history_time_.size()});
   f.reals("contacts", contacts_sum_, contact_samples_);
-  f.field("walls.sums", wall_sums_);
+  f.field("walls.sums", wall_sums_, {0, 4 * scene_.walls.size()});
   f.field("walls.time", wall_time_);
   f.field("frozen_at", frozen_at_);
   f.integers("totals", total_steps_, total_rhs_);
   all_steps_.state(f, "all_steps");
-  std::string integrator_stats = saving ? integrator_stats_.dump() : "";
-  f.field("integrator_stats", integrator_stats);
+  f.field("integrator_stats", integrator_stats_);
   long long stage = stage_;
   f.field("stage", stage);
   const Integrator* stepper = !saving ? nullptr : stage_ == mechanics_stage ? integrator_.get() : heat_stepper_.get();
@@ -532,19 +531,18 @@ void SceneRun::state(SnapshotFields& f) {
   f.integers("stage.counts", stage_steps_, rhs);
   f.field("stage.frame", stage_frame_);
   stage_sizes_.state(f, "stage.step_sizes");
-  std::string stage_statistics = saving ? merged_statistics(stage_stats_before_, stepper->statistics()).dump() : "";
+  nlohmann::json stage_statistics = saving ? merged_statistics(stage_stats_before_, stepper->statistics()) : nlohmann::json();
   f.field("stage.statistics", stage_statistics);
   if (saving) return;
   resumed_at_.push_back(t_);
   wall_before_ = wall;
   profile_.set_values(stages);  // the system's stages of earlier segments counted here
   initial_ = ledger_of(initial);
-  integrator_stats_ = nlohmann::json::parse(integrator_stats);
   stage_ = stage == heat_stage ? heat_stage : mechanics_stage;
   next_checkpoint_ = options_.checkpoint_every > 0 ? t_ + options_.checkpoint_every : next_checkpoint;
   heat_wall_before_ = heat_wall;
   stage_rhs_before_ = rhs;
-  stage_stats_before_ = nlohmann::json::parse(stage_statistics);
+  stage_stats_before_ = stage_statistics;
 }
 
 // The states of the run's parts, each under its own keys: the system, the checks, the observers.
