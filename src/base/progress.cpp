@@ -18,9 +18,11 @@ void Progress::update(double t, double t_end) {
   show(t / t_end, what);
 }
 
-void Progress::update_runs(long done, long total) {
+void Progress::update_runs(long done, long total) { update_items(done, total, "runs"); }
+
+void Progress::update_items(long done, long total, const char* items) {
   if (!enabled_) return;
-  show(static_cast<double>(done) / total, std::to_string(done) + " of " + std::to_string(total) + " runs");
+  show(static_cast<double>(done) / total, std::to_string(done) + " of " + std::to_string(total) + " " + items);
 }
 
 void Progress::show(double done, const std::string& what) {

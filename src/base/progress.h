@@ -11,6 +11,7 @@ class Progress {
   Progress(std::string label, bool quiet);
   void update(double t, double t_end);           // a run: simulated time
   void update_runs(long done, long total);        // a study: finished simulations
+  void update_items(long done, long total, const char* items);  // "done of total items"
   void finish();
 
  private:

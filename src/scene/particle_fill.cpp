@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "src/base/progress.h"
 #include "src/scene/wall_geometry.h"
 
 namespace kiln {
@@ -124,7 +125,11 @@ Placement random_fill(const Region& region, int count, const RadiusDistribution&
   for (size_t i = 0; i < existing_radius.size(); ++i) grid.add(existing_position[i], existing_radius[i]);
   const Vec2 lo = region.lower(), hi = region.upper();
   Placement out;
+  // A fill of millions takes a minute or more (`kiln check` said nothing meanwhile): shown on a
+  // terminal.
+  Progress progress("placing discs", count < (1 << 17));
   for (int k = 0; k < count; ++k) {
+    if (k % 4096 == 0) progress.update_items(k, count, "discs");
     const double r = radii.draw(rng);
     bool placed = false;
     for (long attempt = 0; attempt < attempts && !placed; ++attempt) {
@@ -135,11 +140,14 @@ Placement random_fill(const Region& region, int count, const RadiusDistribution&
       out.radius.push_back(r);
       placed = true;
     }
-    if (!placed)
+    if (!placed) {
+      progress.finish();
       throw std::runtime_error("placed only " + std::to_string(k) + " of " + std::to_string(count) +
                                " particles after " + std::to_string(attempts) +
                                " attempts for the next one: enlarge the region or lower the count");
+    }
   }
+  progress.finish();
   return out;
 }
 
