@@ -137,8 +137,8 @@ std::vector<contact::ContactFrame> unflatten(const std::vector<double>& v) {
 
 void ContactList::state(SnapshotFields& f) {
   f.field("i", i);
-  // Every other array holds one value per contact (four per contact frame), or none where it is
-  // optional (rolling springs, integrated paths).
+  // Every other array holds one value per contact (four per contact frame), or, for the history a
+  // contact law may not keep (springs, modes, frames, rolling, integrated paths), none.
   const size_t n = i.size();
   f.field("j", j, {n});
   f.field("law", law, {n});
@@ -151,20 +151,20 @@ void ContactList::state(SnapshotFields& f) {
   f.field("k", k, {n});
   f.field("c", c, {n});
   if (!history) return;
-  f.field("spring", spring, {n});
-  f.field("trial", trial, {n});
+  f.field("spring", spring, {0, n});
+  f.field("trial", trial, {0, n});
   f.field("roll", roll, {0, n});
   f.field("trial_roll", trial_roll, {0, n});
   f.field("path", path, {0, n});
   f.field("trial_path", trial_path, {0, n});
-  f.field("mode", mode, {n});
+  f.field("mode", mode, {0, 2 * n});  // a tangential and a rolling element per contact
   if (!f.saving()) {
     margin.assign(mode.size(), 0.0);
     pull.assign(mode.size(), 0.0);
   }
   for (auto [key, frames] : {std::pair{"frame", &frame}, std::pair{"trial_frame", &trial_frame}}) {
     std::vector<double> flat = f.saving() ? flatten(*frames) : std::vector<double>{};
-    f.field(key, flat, {4 * n});
+    f.field(key, flat, {0, 4 * n});
     if (!f.saving()) *frames = unflatten(flat);
   }
 }

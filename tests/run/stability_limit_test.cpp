@@ -467,11 +467,12 @@ TEST_CASE("ARK437L2SA's limit holds on a contact that never opens, and a run sto
     CHECK(m.find("energy blow-up") != std::string::npos);
     CHECK(m.find("Or no linear mode grew: a contact lasts only 0.778 steps here") != std::string::npos);
   }
-  // Another check at the same step (the overlap's, set tight) is not blamed on the energy that
-  // contact switching makes.
+  // Another check at the same step (the overlap's, set tight: above the start's 0.000366 of the
+  // radius, which a scene may not exceed, below what the growing oscillation reaches) is not
+  // blamed on the energy that contact switching makes.
   try {
     run_scene(load_scene(testing::case_path("harmonic_contact_pair.yaml"),
-                         {integrator, "dt=9e-4", "t_end=0.1", "checks.max_overlap_fraction=0.0003"}),
+                         {integrator, "dt=9e-4", "t_end=0.1", "checks.max_overlap_fraction=0.0004"}),
               {"", true});
     FAIL("the shallow pair with a tight overlap check ran to the end");
   } catch (const InstabilityError& e) {

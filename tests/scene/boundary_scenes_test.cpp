@@ -537,8 +537,10 @@ TEST_CASE("an unknown key under periodic is refused, listing x and y", "[boundar
 
 TEST_CASE("two particles overlapping across the periodic boundary are refused as overlapping (minimum image)",
           "[boundary-input]") {
-  const std::string across = replaced(good, "at: [[0.0, 0.01], [0.01, 0.01]]", "at: [[0.001, 0.01], [0.0985, 0.01]]");
-  REQUIRE(error_of(across).empty());  // 0.0975 m apart without the cell
+  // 0.0034 m apart across the boundary: an overlap of 0.3 of a radius, which allow_overlap allows
+  // (0.75 of one, as here before, is beyond the run's overlap check, and refused at the start).
+  const std::string across = replaced(good, "at: [[0.0, 0.01], [0.01, 0.01]]", "at: [[0.001, 0.01], [0.0976, 0.01]]");
+  REQUIRE(error_of(across).empty());  // 0.0966 m apart without the cell
   const std::string msg = error_of(across + "periodic: {x: [0, 0.1]}\n");
   CHECK(has(msg, "particles 0 and 1 overlap by"));
   CHECK(has(msg, "allow_overlap"));
