@@ -92,6 +92,7 @@ class SnapshotFields {
   SnapshotFields(Snapshot& out, std::string prefix) : out_(&out), prefix_(std::move(prefix)) {}
   SnapshotFields(const Snapshot& in, std::string prefix) : in_(&in), prefix_(std::move(prefix)) {}
   bool saving() const { return out_ != nullptr; }
+  std::string source() const { return in_ ? in_->source() : std::string(); }  // the file read, for messages
   // The same snapshot, keys under prefix + `more`.
   SnapshotFields within(const std::string& more) const {
     return out_ ? SnapshotFields(*out_, prefix_ + more) : SnapshotFields(*in_, prefix_ + more);

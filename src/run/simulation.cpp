@@ -534,6 +534,13 @@ void SceneRun::state(SnapshotFields& f) {
   nlohmann::json stage_statistics = saving ? merged_statistics(stage_stats_before_, stepper->statistics()) : nlohmann::json();
   f.field("stage.statistics", stage_statistics);
   if (saving) return;
+  // Times a run cannot go on from: a step that does not advance the time, frames or checkpoints
+  // behind it (a changed checkpoint hung the run in its step loop).
+  if (!(std::isfinite(t_) && t_ >= 0 && std::isfinite(stage_t0_) && stage_t0_ <= t_ && stage_dt_ > 0 &&
+        t_ + stage_dt_ > t_ && t_ + scene_.dt > t_ && std::isfinite(stage_interval_) && stage_interval_ > 0 &&
+        std::isfinite(next_checkpoint) && next_checkpoint >= t_))
+    throw Snapshot::layout_error(f.source(), "holds times a run cannot go on from (time, stage start, step, frame "
+                                             "interval or next checkpoint)");
   resumed_at_.push_back(t_);
   wall_before_ = wall;
   profile_.set_values(stages);  // the system's stages of earlier segments counted here
