@@ -207,12 +207,10 @@ std::string RunOutputs::keep_finished_work() {
   // flush of every frame it counts.
   std::error_code error;
   if (checkpointed_) fs::rename(path("result.h5.tmp"), path("result.h5.unfinished"), error);
-  if (!checkpointed_ || error) {
-    clean_up();
-    done_ = true;
-    return resumed_from_ ? "; the result and the checkpoint it resumed from are as they were" : "";
-  }
+  const bool kept_frames = checkpointed_ && !error;
+  if (!kept_frames) clean_up();
   done_ = true;
+  if (!kept_frames) return resumed_from_ ? "; the result and the checkpoint it resumed from are as they were" : "";
   std::ostringstream kept;
   kept << "; kept: " << checkpoint_frames_ << " frames in " << path("result.h5.unfinished") << " and "
        << path("checkpoint.h5") << " (t = " << checkpoint_time_ << " s): once there is room, `kiln run --restart "
