@@ -99,6 +99,20 @@ void ArkodeIntegrator::resume(OdeSystem& system, double* y, double dt, const Sna
   SnapshotFields f(s, p);
   double t_arkode = 0, h = 0;
   fields(f, t_arkode, h);
+  // Fixed steps take their time from the grid (grid_start + k dt), ARKODE from its own: each must
+  // be the integrator's time, or the first step would jump the run elsewhere (a changed checkpoint
+  // did, past its end). ARKODE's drifts from the grid by its sums' round-off only.
+  dt_ = dt;
+  const double tol = 1e-6 * dt;
+  const bool consistent =
+      std::isfinite(t_) && std::isfinite(t_arkode) && std::abs(t_arkode - t_) <= tol && std::isfinite(h) && h > 0 &&
+      (control_.rtol > 0 || (grid_steps_ >= 0 && grid_start_ + static_cast<double>(grid_steps_) * dt == t_));
+  if (!consistent)
+    throw Snapshot::layout_error(f.source(), "holds integrator times that do not agree (" + p + "time: " +
+                                                 std::to_string(t_) + " s, ARKODE's " + std::to_string(t_arkode) +
+                                                 " s, step " + std::to_string(h) + " s; " + p + "grid_steps " +
+                                                 std::to_string(grid_steps_) + " of " + std::to_string(dt) + " s from " +
+                                                 std::to_string(grid_start_) + " s)");
   create(system, t_arkode, y, dt, control_.rtol > 0 ? h : dt);
 }
 

@@ -26,6 +26,15 @@ class VerletFamily : public Integrator {
     start_without_evaluating(system, y, dt);
     SnapshotFields f(s, p);
     state(f);
+    // The next step's time comes from the step count (t0 + (n + 1) dt): a count that disagrees
+    // with the time would jump the run past its end in one step (a changed checkpoint did, and
+    // hung the run in its checkpoint schedule). The time is the grid's, or a stop short of it.
+    const double grid = t0_ + static_cast<double>(count_) * dt_;
+    if (!(count_ >= 0 && std::isfinite(t0_) && t0_ + static_cast<double>(count_ - 1) * dt_ <= t_ && t_ <= grid))
+      throw Snapshot::layout_error(f.source(), "holds a step count (" + p + "count) that does not agree with its time (" +
+                                                   p + "time): " + std::to_string(count_) + " steps of " +
+                                                   std::to_string(dt_) + " s from t = " + std::to_string(t0_) +
+                                                   " s do not end at t = " + std::to_string(t_) + " s");
     stats_.last_step = dt_;
   }
 

@@ -439,7 +439,12 @@ SceneRun::Ended SceneRun::run_stage(Integrator& stepper, bool moving) {
     const int signal = options_.stop_on_signal ? stop_signal() : 0;
     const bool stops = at_end || signal || ended == Ended::at_rest;
     if (t_ >= next_checkpoint_ - tol || (stops && files_)) {
-      while (next_checkpoint_ <= t_ + tol) next_checkpoint_ += checkpoint_every();
+      // The next checkpoint time after this step, by one division: adding the interval until it
+      // passed the step never ended where the step had jumped far ahead of the schedule.
+      if (next_checkpoint_ <= t_ + tol) {
+        next_checkpoint_ += checkpoint_every() * (std::floor((t_ + tol - next_checkpoint_) / checkpoint_every()) + 1);
+        if (next_checkpoint_ <= t_ + tol) next_checkpoint_ += checkpoint_every();  // the division's rounding
+      }
       const StageTimer timer(profile_, Stage::output);
       save_checkpoint();
     }
@@ -584,6 +589,13 @@ void SceneRun::resume(const Snapshot& s) {
   } else {
     enter_heat_stage(false, &s);
   }
+  // The run's time is its integrator's after every step: two times that disagree would each be
+  // wrong somewhere (frames stamped with one, states advanced from the other).
+  const Integrator& stepper = stage_ == mechanics_stage ? *integrator_ : *heat_stepper_;
+  if (stepper.time() != t_)
+    throw Snapshot::layout_error(fields.source(), "holds two times of the run: " + std::to_string(t_) +
+                                                      " s (time) and its integrator's " +
+                                                      std::to_string(stepper.time()) + " s (integrator.time)");
   last_checkpoint_step_ = total_steps_ + stage_steps_;
 }
 
