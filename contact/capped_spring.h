@@ -22,17 +22,17 @@ struct CappedSpringResult {
 
 // `spring`: the trial spring s of this state; `rate`: its rate v; `limit`: L >= 0. A cap of zero
 // (no normal force) empties the spring: the contact holds nothing.
+// Without a branch (selects), so that a loop over contacts can be vectorised.
 [[gnu::always_inline]] inline CappedSpringResult capped_spring(double k, double c, double limit, double spring,
                                                                double rate) {
-  CappedSpringResult r;
-  r.spring = spring;
-  r.force = -k * spring - c * rate;
-  if (std::abs(r.force) > limit) {
-    r.force = std::copysign(limit, r.force);
-    r.slipping = true;
-    if (k * std::abs(spring) > limit || limit == 0) r.spring = k > 0 ? std::copysign(limit / k, spring) : 0.0;
-  }
-  return r;
+  // Every operand computed, then chosen: an operation inside a condition (it might raise a
+  // floating-point exception) is not executed speculatively, and the loop would keep its branches.
+  const double trial = -k * spring - c * rate;
+  const bool capped = std::abs(trial) > limit;
+  const bool shortened = capped & ((k * std::abs(spring) > limit) | (limit == 0));
+  const double cap_length = limit / k;
+  const double on_cap = k > 0 ? std::copysign(cap_length, spring) : 0.0;
+  return {capped ? std::copysign(limit, trial) : trial, shortened ? on_cap : spring, capped};
 }
 
 }  // namespace kiln::contact

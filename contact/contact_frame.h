@@ -27,29 +27,43 @@ namespace kiln::contact {
 struct ContactFrame {
   double nx = 0, ny = 0;        // contact normal, unit, from i towards the other body; 0: no frame
   double rho_t = 0, rho_n = 0;  // i's centre relative to the other body's fixed point, on t and n (m)
-  bool known() const { return nx != 0 || ny != 0; }
+  bool known() const { return (nx != 0) | (ny != 0); }
 };
 
 // The angle from unit vector a to unit vector b, given cross(a, b) = sin and dot(a, b) = cos.
-// Within a step contact normals turn by far less than 0.01 rad, where the odd series of asin to
-// x^7 is exact to double precision (the next term is below 1e-19 x); atan2 elsewhere. atan2 in
-// the force loop cost 20 % of a run.
+// Within a step contact normals turn by far less than 0.01 rad (small_turn), where the odd series
+// of asin to x^7 is exact to double precision (the next term is below 1e-19 x); atan2 elsewhere.
+// atan2 in the force loop cost 20 % of a run; the batched contact loop takes the series for all
+// and redoes the rare others.
+[[gnu::always_inline]] inline bool small_turn(double sine, double cosine) { return (cosine > 0) & (std::abs(sine) < 1e-2); }
+[[gnu::always_inline]] inline double small_turn_angle(double sine) {
+  const double x2 = sine * sine;
+  return sine * (1 + x2 * (1.0 / 6 + x2 * (3.0 / 40 + x2 * (15.0 / 336))));
+}
 [[gnu::always_inline]] inline double turn_angle(double sine, double cosine) {
-  if (cosine > 0 && std::abs(sine) < 1e-2) {
-    const double x2 = sine * sine;
-    return sine * (1 + x2 * (1.0 / 6 + x2 * (3.0 / 40 + x2 * (15.0 / 336))));
-  }
-  return std::atan2(sine, cosine);
+  return small_turn(sine, cosine) ? small_turn_angle(sine) : std::atan2(sine, cosine);
+}
+// The sine and cosine of the angle from a's normal to b's.
+[[gnu::always_inline]] inline double turn_sine(const ContactFrame& a, const ContactFrame& b) {
+  return a.nx * b.ny - a.ny * b.nx;
+}
+[[gnu::always_inline]] inline double turn_cosine(const ContactFrame& a, const ContactFrame& b) {
+  return a.nx * b.nx + a.ny * b.ny;
 }
 
 // Relative tangential displacement of the contact points from frame a to frame b (m), along b's
-// t. `arm_a`, `arm_b`: i's lever arms in the two frames; `spun_i`, `spun_other`: how far i and
-// the other body turned from a to b (rad).
-[[gnu::always_inline]] inline double tangential_displacement(const ContactFrame& a, const ContactFrame& b, double arm_a, double arm_b,
-                                      double spun_i, double spun_other) {
-  const double turned = turn_angle(a.nx * b.ny - a.ny * b.nx, a.nx * b.nx + a.ny * b.ny);  // phi_b - phi_a
+// t, the normal having turned by `turned` (rad). `arm_a`, `arm_b`: i's lever arms in the two
+// frames; `spun_i`, `spun_other`: how far i and the other body turned from a to b (rad).
+[[gnu::always_inline]] inline double tangential_displacement(const ContactFrame& a, const ContactFrame& b, double turned,
+                                                             double arm_a, double arm_b, double spun_i,
+                                                             double spun_other) {
   return (b.rho_t - a.rho_t) + 0.5 * (a.rho_n + b.rho_n) * (turned - spun_other) +
          0.5 * (arm_a + arm_b) * (spun_i - spun_other);
+}
+[[gnu::always_inline]] inline double tangential_displacement(const ContactFrame& a, const ContactFrame& b, double arm_a,
+                                                             double arm_b, double spun_i, double spun_other) {
+  return tangential_displacement(a, b, turn_angle(turn_sine(a, b), turn_cosine(a, b)), arm_a, arm_b, spun_i,
+                                 spun_other);
 }
 
 // Lever arms of two discs in contact: one contact point on the line of centres, in the middle of

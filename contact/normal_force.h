@@ -41,12 +41,12 @@ struct NormalLaw {
 // The law with its model fixed to M's (M = void: the law's own): in a loop compiled for one model
 // the model's switch in every function below folds away.
 template <class M>
-NormalLaw with_model_of(NormalLaw law) {
+[[gnu::always_inline]] inline NormalLaw with_model_of(NormalLaw law) {
   if constexpr (!std::is_void_v<M>) law.model = M::model;
   return law;
 }
 // Normal force magnitude on the pair (positive pushes the bodies apart). `overlap` > 0.
-inline double normal_force(const NormalLaw& law, double overlap, double approach_speed) {
+[[gnu::always_inline]] inline double normal_force(const NormalLaw& law, double overlap, double approach_speed) {
   const double f =
       with_normal_model(law.model, [&](auto m) { return m.force(law.k, law.c, overlap, approach_speed); });
   return (!law.tension && f < 0) ? 0.0 : f;
@@ -58,7 +58,7 @@ inline double normal_force(const NormalLaw& law, double overlap, double approach
 // law without tension. Pressing, the law itself, also where the stages overshoot the pull's start
 // or the release (a spring continued past separation: smooth through it); pulling, the law's pull
 // with tension, else 0.
-inline double located_normal_force(const NormalLaw& law, double overlap, double approach_speed, bool pulling) {
+[[gnu::always_inline]] inline double located_normal_force(const NormalLaw& law, double overlap, double approach_speed, bool pulling) {
   const double f =
       with_normal_model(law.model, [&](auto m) { return m.force(law.k, law.c, overlap, approach_speed); });
   return pulling && !law.tension ? 0.0 : f;
@@ -71,18 +71,18 @@ inline double located_normal_force(const NormalLaw& law, double overlap, double 
 // cap had a kink there, which the stages of a step that ends at a located release straddle (their
 // states miss it by their stage errors): Sayfy-Aburub on the squeezed disc measured 2.9 to 3.7
 // instead of 4, at step sizes where a release fell so.
-inline double cap_load(double force, bool located, bool pulling) {
+[[gnu::always_inline]] inline double cap_load(double force, bool located, bool pulling) {
   return located ? (pulling ? 0.0 : force) : std::fmax(force, 0.0);
 }
 
 // What the normal force `force` carries beyond the conservative spring: the dashpot's part (N).
-inline double dashpot_force(const NormalLaw& law, double overlap, double force) {
+[[gnu::always_inline]] inline double dashpot_force(const NormalLaw& law, double overlap, double force) {
   return force - with_normal_model(law.model, [&](auto m) { return m.spring(law.k, overlap); });
 }
 
 // Power the normal force turns into heat: what it does beyond the conservative spring,
 // (F_n - k delta^p) d(delta)/dt. Equals c delta^q v^2 while the force is not clamped.
-inline double normal_dissipation(const NormalLaw& law, double overlap, double approach_speed, double force) {
+[[gnu::always_inline]] inline double normal_dissipation(const NormalLaw& law, double overlap, double approach_speed, double force) {
   return dashpot_force(law, overlap, force) * approach_speed;
 }
 
@@ -93,18 +93,18 @@ inline double normal_elastic_energy(const NormalLaw& law, double overlap) {
 
 // Linear(ised) normal stiffness dF/d(overlap) of the spring (N/m): the tangential and rolling
 // springs scale with it.
-inline double stiffness_slope(const NormalLaw& law, double overlap) {
+[[gnu::always_inline]] inline double stiffness_slope(const NormalLaw& law, double overlap) {
   return with_normal_model(law.model, [&](auto m) { return m.slope(law.k, overlap); });
 }
 
 // d/dt of stiffness_slope at approach speed `speed` (N/(m s)): how fast the springs that scale with
 // it stiffen (contact/stick_slip.h).
-inline double stiffness_slope_rate(const NormalLaw& law, double overlap, double speed) {
+[[gnu::always_inline]] inline double stiffness_slope_rate(const NormalLaw& law, double overlap, double speed) {
   return with_normal_model(law.model, [&](auto m) { return m.slope_rate(law.k, overlap, speed); });
 }
 
 // delta^q: how the dashpot (normal and tangential) grows with the overlap.
-inline double dashpot_scale(const NormalLaw& law, double overlap) {
+[[gnu::always_inline]] inline double dashpot_scale(const NormalLaw& law, double overlap) {
   return with_normal_model(law.model, [&](auto m) { return m.dashpot_scale(overlap); });
 }
 

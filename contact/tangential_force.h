@@ -18,6 +18,7 @@
 #include <cmath>
 
 #include "contact/capped_spring.h"
+#include "contact/normal_force.h"
 
 namespace kiln::contact {
 
@@ -32,6 +33,14 @@ struct TangentialResult {
   double spring = 0;  // elongation after the Coulomb cap (m)
   bool sliding = false;
 };
+
+// The law of a contact whose normal law is `normal` at `overlap`: the tangential spring scales
+// with the normal spring's slope, its dashpot as the normal dashpot (ratios of the pair's law).
+[[gnu::always_inline]] inline TangentialLaw tangential_law(const NormalLaw& normal, double overlap, double stiffness_ratio,
+                                                           double damping_ratio, double friction) {
+  return {stiffness_ratio * stiffness_slope(normal, overlap), damping_ratio * normal.c * dashpot_scale(normal, overlap),
+          friction};
+}
 
 // `elongation`: the trial elongation of this state (m); `slip_speed`: the tangential relative
 // velocity of i's contact point against the other body's, along t (m/s); `normal` = F_n (N): a

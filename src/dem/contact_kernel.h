@@ -11,7 +11,7 @@
 
 namespace kiln {
 
-inline void DemSystem::forget(const ContactArrays& list, int p) {
+[[gnu::always_inline]] inline void DemSystem::forget(const ContactArrays& list, int p) {
   list.trial[p] = 0;
   if (list.path_rate) list.path_rate[p] = 0;
   if (list.mode) list.margin[2 * p] = list.margin[2 * p + 1] = 0;  // nothing to switch: holds
@@ -29,9 +29,8 @@ inline DemSystem::PairMasses DemSystem::pair_masses(int i, int j) const {
 
 inline contact::TangentialLaw DemSystem::tangential_law(const ContactCoefficients& lf, const contact::NormalLaw& nl,
                                                         double overlap) const {
-  // The tangential spring scales with the normal one's slope, its dashpot as the normal dashpot.
-  return {lf.law.tangential_stiffness_ratio * contact::stiffness_slope(nl, overlap),
-          lf.law.tangential_damping_ratio * nl.c * contact::dashpot_scale(nl, overlap), lf.law.friction};
+  return contact::tangential_law(nl, overlap, lf.law.tangential_stiffness_ratio, lf.law.tangential_damping_ratio,
+                                lf.law.friction);
 }
 
 inline contact::RollingLaw DemSystem::rolling_law(const ContactCoefficients& lf, const contact::NormalLaw& nl,

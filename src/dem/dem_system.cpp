@@ -62,6 +62,7 @@ DemSystem::DemSystem(const Scene& scene)
     for (int b = 0; b < nm && used[a]; ++b) {
       const ContactCoefficients& law = laws_[a * nm + b];
       history = history || law.tangential || law.rolling;
+      friction_everywhere_ = (first || friction_everywhere_) && law.tangential && !law.rolling;
       rolling = rolling || law.rolling;
       damped = damped || law.beta > 0 || law.law.damping_rate > 0;
       without_tension = without_tension || !law.law.tension;
@@ -70,6 +71,7 @@ DemSystem::DemSystem(const Scene& scene)
       first = false;
     }
   rotates_ = rotates_ || history;
+  friction_batches_ = friction_everywhere_;
   pp_.history = pw_.history = history;
   pp_.rolling = pw_.rolling = rolling;
   thermal_ = scene.thermal;

@@ -82,6 +82,10 @@ class DemSystem final : public OdeSystem {
   void derivative(double t, const double* y, double* ydot) override { evaluate(t, y, ydot, Part::all, nullptr); }
   void accept(double t) override;
   bool has_history() const override { return pp_.history; }
+  // Particle contacts in batches where the scene allows (the default), or one by one through the
+  // kernel (off): the same bits either way.
+  void contact_batches(bool on) { friction_batches_ = on && friction_everywhere_; }
+  bool contact_batches() const { return friction_batches_; }
   // IMEX: conduction (linear in the temperatures) is the implicit part; all else is explicit.
   bool has_implicit_part() const override { return thermal_; }
   bool implicit_part_is_linear() const override { return false; }  // conductances follow the positions
@@ -149,7 +153,7 @@ class DemSystem final : public OdeSystem {
   int body_at() const { return (rotates_ ? 3 : 2) * n_; }
   int body_speed_at() const { return layout_.nq + body_at(); }
   // Whether particle i moves with a wall (or is fixed) instead of under its forces.
-  bool attached(int i) const { return has_attached_ && scene_.attached[i] != Scene::free_particle; }
+  [[gnu::always_inline]] bool attached(int i) const { return has_attached_ && scene_.attached[i] != Scene::free_particle; }
   int ledger_at() const { return 2 * layout_.nq; }
   int ledger_count() const { return thermal_ ? ledger_thermal : ledger_mechanical; }
   int temperature_at() const { return thermal_ ? ledger_at() + ledger_thermal : -1; }
@@ -270,7 +274,7 @@ class DemSystem final : public OdeSystem {
   };
   // A contact's row added to one particle's sum: the pair's i takes it as it is, its j with the
   // opposite sign and torque_j (a sign of -1 is exact: the bits of subtracting).
-  static void add_row_to(ParticleSum& s, const ContactRow& r, bool is_i) {
+  [[gnu::always_inline]] static void add_row_to(ParticleSum& s, const ContactRow& r, bool is_i) {
     const double sign = is_i ? 1.0 : -1.0;
     s.fx += sign * r.fx;
     s.fy += sign * r.fy;
@@ -282,14 +286,29 @@ class DemSystem final : public OdeSystem {
   }
   // ... to the sums of the particles at slots a and b (b < 0: a wall), heat rows likewise: on one
   // thread, in the order of the lists, the additions rows_to_particles() makes.
-  static void add_row(ParticleSum* s, int a, int b, const ContactRow& r) {
+  [[gnu::always_inline]] static void add_row(ParticleSum* s, int a, int b, const ContactRow& r) {
     add_row_to(s[a], r, true);
     if (b >= 0) add_row_to(s[b], r, false);
   }
-  static void add_heat_row(ParticleSum* s, int a, int b, const HeatRow& h) {
+  [[gnu::always_inline]] static void add_heat_row(ParticleSum* s, int a, int b, const HeatRow& h) {
     s[a].heat += h.to_i;
     if (b >= 0) s[b].heat += h.to_j;
   }
+  // A batch of acting particle contacts (stage_particle_contacts.cpp): their inputs and results,
+  // one array each, so that the loop of their laws is vectorised.
+  struct FrictionBatch {
+    static constexpr int size = 64;
+    double nx[size], ny[size], dist[size], r_i[size], r_j[size], vx[size], vy[size], w_i[size], w_j[size];
+    double spun_i[size], spun_j[size], inv_r[size], k[size], c[size], tension[size], stiffness_ratio[size];
+    double damping_ratio[size], friction[size], from_nx[size], from_ny[size], from_rho_t[size], from_rho_n[size];
+    double spring[size], damping[size], work[size], fx[size], fy[size], torque_i[size], torque_j[size];
+    double gx[size], gy[size], dx[size], dy[size], worst[size];
+    double redo[size];  // 1: the normal turned beyond the series (a double: one vector type in the loop)
+  };
+  template <bool Threaded, class M, class Act>
+  void friction_batch(const ContactArrays& list, const ParticleKinematics* kin, ParticleSum* to, const int* acting,
+                      int count, int begin, const double* sep_x, const double* sep_y, const double* dist_of,
+                      const double* inv_dist, FrictionBatch& q, BlockSums& sums, Act& act, int first);
   void wall_contact_forces(Evaluation& e);  // stage_wall_contacts.cpp
   void rows_to_particles(Evaluation& e);    // stage_contact_sums.cpp (threaded evaluations)
   void attached_particles(Evaluation& e);       // what pushes them pushes their walls
@@ -370,7 +389,7 @@ class DemSystem final : public OdeSystem {
   // scene says so (Nguyen et al. 2009, eq. 1: m c_p dT/dt = sum_j (H (T_j - T_i) + E_f / (2 dt))).
   // Friction heat is booked as the work of friction on the relative motion: what a spring holds
   // for a while is heat-to-be, subtracted again in energy() (see the header).
-  double heat_made(double work_rate, double damping_power) const {
+  [[gnu::always_inline]] double heat_made(double work_rate, double damping_power) const {
     return heat_power_factor_friction_ * work_rate + heat_power_factor_damping_ * damping_power;
   }
   // A touching contact's heat rate as a row on the velocities of its particles i and j (j < 0: a
@@ -383,7 +402,7 @@ class DemSystem final : public OdeSystem {
     int i = -1, j = -1;
     double share = 0, hx = 0, hy = 0, ti = 0, tj = 0, rest = 0;
   };
-  HeatWork heat_work(int i, int j, double share, const ContactRow& row) const {
+  [[gnu::always_inline]] HeatWork heat_work(int i, int j, double share, const ContactRow& row) const {
     const double f = heat_power_factor_friction_, d = heat_power_factor_damping_;
     return {i, j, share, f * row.gx + d * row.dx, f * row.gy + d * row.dy, f * row.torque_i, f * row.torque_j, 0.0};
   }
@@ -433,6 +452,10 @@ class DemSystem final : public OdeSystem {
   std::vector<int> material_;
   std::vector<ContactCoefficients> laws_;  // per material pair
   bool mixed_models_ = false;              // the laws of used material pairs differ in normal model
+  // Every used pair of materials has friction and none rolling resistance: particle contacts may
+  // go in batches (FrictionBatch), unless turned off (contact_batches(false): the kernel's own
+  // loop, the reference the batches are tested against).
+  bool friction_everywhere_ = false, friction_batches_ = false;
   contact::NormalModel pair_model_ = contact::NormalModel::linear;  // otherwise, theirs
 
   double base_skin_ = 0;  // the scene's skin (or the automatic one); a rebuild may widen it for a step

@@ -20,8 +20,132 @@
 
 namespace kiln {
 
+// One batch of acting contacts (FrictionBatch::size at most) of a block: `acting` are their
+// places in the block (from `begin`), whose separations, distances and inverse distances the
+// block computed. Three loops: the contacts' kinematics, coefficients and committed frames
+// gathered into arrays; their forces from the law functions of the kernel (contact(), whose
+// branches here are selects: one normal model, friction everywhere, nothing located), a loop
+// without a branch or a call that the compiler vectorises; their trial springs, frames and rows
+// written in the order of the list. The same operations in the same order as contact(): the same
+// bits (tests/dem/friction_batch_test.cpp). A normal that turned too far for the series of
+// contact/contact_frame.h (never within a healthy step) is redone by the kernel, `act`.
+template <bool Threaded, class M, class Act>
+[[gnu::always_inline]] inline void DemSystem::friction_batch(const ContactArrays& list, const ParticleKinematics* kin,
+                                                             ParticleSum* to, const int* acting, int count, int begin,
+                                                             const double* sep_x, const double* sep_y,
+                                                             const double* dist_of, const double* inv_dist,
+                                                             FrictionBatch& q, BlockSums& sums, Act& act, int first) {
+  for (int u = 0; u < count; ++u) {
+    const int k = acting[u], p = begin + k;
+    const ParticleKinematics &pi = kin[list.si[p]], &pj = kin[list.sj[p]];
+    const double inv_d = inv_dist[k];
+    q.nx[u] = sep_x[k] * inv_d;
+    q.ny[u] = sep_y[k] * inv_d;
+    q.dist[u] = dist_of[k];
+    q.r_i[u] = pi.r;
+    q.r_j[u] = pj.r;
+    q.vx[u] = pi.vx - pj.vx;
+    q.vy[u] = pi.vy - pj.vy;
+    q.w_i[u] = pi.w;
+    q.w_j[u] = pj.w;
+    q.spun_i[u] = pi.spun;
+    q.spun_j[u] = pj.spun;
+    q.inv_r[u] = std::max(pi.inv_r, pj.inv_r);
+    q.k[u] = list.k[p];
+    q.c[u] = list.c[p];
+    const contact::ContactLaw& law = laws_[list.law[p]].law;
+    q.tension[u] = law.tension;
+    q.stiffness_ratio[u] = law.tangential_stiffness_ratio;
+    q.damping_ratio[u] = law.tangential_damping_ratio;
+    q.friction[u] = law.friction;
+    const contact::ContactFrame& from = list.frame[p];
+    q.from_nx[u] = from.nx;
+    q.from_ny[u] = from.ny;
+    q.from_rho_t[u] = from.rho_t;
+    q.from_rho_n[u] = from.rho_n;
+    q.spring[u] = list.spring[p];
+  }
+  for (int u = 0; u < count; ++u) {
+    const double nx = q.nx[u], ny = q.ny[u];
+    const double rsum = q.r_i[u] + q.r_j[u];
+    const double overlap = rsum - q.dist[u];
+    const double vn = q.vx[u] * nx + q.vy[u] * ny;
+    const double drift = -q.vx[u] * ny + q.vy[u] * nx;
+    const contact::NormalLaw nl{q.k[u], q.c[u], M::model, q.tension[u] != 0};
+    const double fn = contact::normal_force(nl, overlap, vn);
+    const double dashpot = contact::dashpot_force(nl, overlap, fn);
+    q.damping[u] = contact::normal_dissipation(nl, overlap, vn, fn);
+    const contact::ContactFrame from{q.from_nx[u], q.from_ny[u], q.from_rho_t[u], q.from_rho_n[u]};
+    const contact::ContactFrame now{nx, ny, 0.0, -q.dist[u]};
+    const double arm_i = contact::pair_arm(q.r_i[u], overlap), arm_j = contact::pair_arm(q.r_j[u], overlap);
+    const double arm_then = contact::pair_arm(q.r_i[u], rsum + from.rho_n);
+    const double slip_speed = drift + q.w_i[u] * arm_i + q.w_j[u] * arm_j;
+    const contact::TangentialLaw law =
+        contact::tangential_law(nl, overlap, q.stiffness_ratio[u], q.damping_ratio[u], q.friction[u]);
+    const double sine = contact::turn_sine(from, now), cosine = contact::turn_cosine(from, now);
+    const bool known = from.known();
+    q.redo[u] = known & !contact::small_turn(sine, cosine) ? 1.0 : 0.0;
+    const double stretched = q.spring[u] + contact::tangential_displacement(from, now, contact::small_turn_angle(sine),
+                                                                             arm_then, arm_i, q.spun_i[u], q.spun_j[u]);
+    const double trial = known ? stretched : 0.0;  // a contact that began in this step starts unstretched
+    const contact::TangentialResult t = contact::tangential_force(law, trial, slip_speed, fn);
+    q.spring[u] = t.spring;
+    q.work[u] = 0.0 - t.force * slip_speed;
+    q.fx[u] = -fn * nx - t.force * ny;
+    q.fy[u] = -fn * ny + t.force * nx;
+    q.torque_i[u] = arm_i * t.force + 0.0;  // no rolling couple
+    q.torque_j[u] = arm_j * t.force - 0.0;
+    q.gx[u] = t.force * ny;
+    q.gy[u] = -t.force * nx;
+    q.dx[u] = dashpot * nx;
+    q.dy[u] = dashpot * ny;
+    q.worst[u] = overlap * q.inv_r[u];
+  }
+  for (int u = 0; u < count; ++u) {
+    if (q.redo[u] != 0) {
+      act(first + u);
+      continue;
+    }
+    const int p = begin + acting[u];
+    list.trial[p] = q.spring[u];
+    contact::ContactFrame& frame = list.trial_frame[p];
+    frame.nx = q.nx[u];
+    frame.ny = q.ny[u];
+    frame.rho_t = 0.0;
+    frame.rho_n = -q.dist[u];
+    ContactRow row;
+    row.fx = q.fx[u];
+    row.fy = q.fy[u];
+    row.torque_i = q.torque_i[u];
+    row.torque_j = q.torque_j[u];
+    row.gx = q.gx[u];
+    row.gy = q.gy[u];
+    row.dx = q.dx[u];
+    row.dy = q.dy[u];
+    if constexpr (Threaded)
+      pp_.rows[p] = row;
+    else
+      add_row(to, list.si[p], list.sj[p], row);
+    sums.damping += q.damping[u];
+    sums.friction_work += q.work[u];
+    sums.worst = std::max(sums.worst, q.worst[u]);
+  }
+}
+
+// The loop is compiled twice, for baseline x86-64 and for AVX2, the one to run chosen by the
+// processor when the program starts (GCC's function multiversioning): AVX2 puts four contacts in
+// a batch's vectors where SSE2 holds two, and the default build still runs on any x86-64. The
+// blocks and the kernel are inlined into each version. No FMA: the bits are the same on both
+// (CMakeLists.txt compiles this file without contraction). Clang 14 does not link clones of a
+// template, so its builds (the fuzzers) have the baseline version only.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define KILN_CONTACT_LOOP_VERSIONS __attribute__((target_clones("avx2", "default")))
+#else
+#define KILN_CONTACT_LOOP_VERSIONS
+#endif
+
 template <bool Threaded, bool History, DemSystem::PairExtras X, class M>
-void DemSystem::pair_contact_loop(Evaluation& e) {
+KILN_CONTACT_LOOP_VERSIONS void DemSystem::pair_contact_loop(Evaluation& e) {
   constexpr bool Plain = X == PairExtras::none, Any = X == PairExtras::any;
   const int np = pp_.size();
   const int blocks = block_count(np);
@@ -32,7 +156,7 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
   // memory, and were loaded again for every contact, the constant flags of this instantiation
   // included; so were the arrays through their vectors, and the cell (the loop's stores of
   // doubles could have changed its members, for all the compiler knew).
-  auto block = [&](int b) {
+  auto block = [&](int b) __attribute__((always_inline)) {
     const bool thermal = !Plain && e.heat != nullptr;
     const bool events = Any && events_, has_attached = Any && has_attached_;
     const double* temp = !Plain && e.conduct ? e.state + temperature_at() : nullptr;
@@ -86,8 +210,8 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
       if (Threaded && thermal) heat_rows[p] = {};
       if (temp) conductance[p] = 0;
     }
-    // Then the contacts that act.
-    for (int a = 0; a < acting_count; ++a) {
+    // Then the contacts that act, one by one through the kernel ...
+    auto act = [&](int a) __attribute__((always_inline)) {
       const int k = acting_list[a], p = begin + k, i = list.i[p], j = list.j[p];
       const ParticleKinematics &pi = kin[list.si[p]], &pj = kin[list.sj[p]];
       const Vec2 d{sep_x[k], sep_y[k]};
@@ -99,7 +223,7 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
         if (History && list.history) forget(list, p);
         if constexpr (Threaded) pp_.rows[p] = {};
         if (Threaded && thermal) heat_rows[p] = {};
-        if (!temp) continue;
+        if (!temp) return;
       }
       const double dist = dist_of[k];
       const double overlap = rsum - dist;
@@ -112,7 +236,7 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
         conductance[p] = h;
         if (walls_both) {
           book_heat(p, heat);
-          continue;
+          return;
         }
       }
       const double inv_d = inv_dist[k];
@@ -162,7 +286,22 @@ void DemSystem::pair_contact_loop(Evaluation& e) {
         book_heat(p, heat);
       }
       sums.worst = std::max(sums.worst, c.overlap * std::max(pi.inv_r, pj.inv_r));
+        };
+    // ... or, where every contact is a frictional one of one normal model with nothing located
+    // (the Verlet schemes' plain scenes), in batches: the same law functions over arrays, which
+    // the compiler vectorises, the contacts gathered before and their rows added after, in order.
+    if constexpr (Plain && History && !std::is_void_v<M>) {
+      if (friction_batches_ && list.history && !list.rolling && !list.mode && !list.stage_path && !list.active &&
+          !list.load_margin) {
+        FrictionBatch batch;
+        for (int a0 = 0; a0 < acting_count; a0 += FrictionBatch::size)
+          friction_batch<Threaded, M>(list, kin, to, acting_list + a0, std::min(FrictionBatch::size, acting_count - a0),
+                                      begin, sep_x, sep_y, dist_of, inv_dist, batch, sums, act, a0);
+        block_sums_[b] = sums;
+        return;
+      }
     }
+    for (int a = 0; a < acting_count; ++a) act(a);
     block_sums_[b] = sums;
   };
   if constexpr (Threaded) {
