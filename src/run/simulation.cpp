@@ -198,6 +198,9 @@ class SceneRun {
   long timed_steps_ = 0, timed_rhs_ = 0, timed_rebuilds_ = 0;
   DemSystem::ContactCount timed_contacts_;  // at the end of the timed steps
   double next_checkpoint_ = INFINITY;
+  // The run stopped at rest (its stop condition) at t_: saved with its last checkpoint, so that a run
+  // whose publication failed there resumes to publish, not to step on past its rest.
+  bool stopped_at_rest_ = false;
   long last_checkpoint_step_ = -1;
 
   // Totals of finished stages, the frames' ledger history and coordination numbers.
@@ -269,7 +272,10 @@ nlohmann::json SceneRun::run_and_publish() {
     start_fresh();
   }
   Ended ended = Ended::frozen;
-  if (stage_ == mechanics_stage && !scene_.frozen) {
+  if (stopped_at_rest_) {
+    ended = Ended::at_rest;  // resumed to publish (above): nothing is stepped
+    close_stage(*integrator_, integrator_stats_);
+  } else if (stage_ == mechanics_stage && !scene_.frozen) {
     guard_->set_stage(scene_.dt);
     ended = run_stage(*integrator_, true);
     close_stage(*integrator_, integrator_stats_);
@@ -438,6 +444,7 @@ SceneRun::Ended SceneRun::run_stage(Integrator& stepper, bool moving) {
     }
     const int signal = options_.stop_on_signal ? stop_signal() : 0;
     const bool stops = at_end || signal || ended == Ended::at_rest;
+    stopped_at_rest_ = ended == Ended::at_rest;
     if (t_ >= next_checkpoint_ - tol || (stops && files_)) {
       // The next checkpoint time after this step, by one division: adding the interval until it
       // passed the step never ended where the step had jumped far ahead of the schedule.
@@ -523,6 +530,7 @@ void SceneRun::state(SnapshotFields& f) {
   f.field("walls.sums", wall_sums_, {0, 4 * scene_.walls.size()});
   f.field("walls.time", wall_time_);
   f.field("frozen_at", frozen_at_);
+  f.field("stopped_at_rest", stopped_at_rest_);
   f.integers("totals", total_steps_, total_rhs_);
   all_steps_.state(f, "all_steps");
   f.field("integrator_stats", integrator_stats_);
@@ -579,8 +587,12 @@ void SceneRun::resume(const Snapshot& s) {
   state(fields);
   // At t_end, a run that was not published (its output failed, or it was killed publishing) is
   // resumed to publish it.
-  if (!(scene_.t_end > t) && (options_.out_dir.empty() || RunOutputs::published(options_.out_dir, run_id_, t)))
+  const bool published = options_.out_dir.empty() || RunOutputs::published(options_.out_dir, run_id_, t);
+  if (!(scene_.t_end > t) && published)
     throw InputError("the checkpoint is at t = " + std::to_string(t) + " s: give a later --t-end to go on");
+  // A run that stopped at rest and was published goes on from its rest when resumed (a later
+  // --t-end asks for more); one whose publication failed is published.
+  if (published) stopped_at_rest_ = false;
   parts(fields);
   if (!options_.out_dir.empty())
     files_ = std::make_unique<RunOutputs>(options_.out_dir, system_, run_id_, static_cast<int>(s.integer("frames")), s);

@@ -387,6 +387,28 @@ TEST_CASE("a run killed while publishing resumes to publish; a published run is 
   fs::remove_all(whole);
 }
 
+TEST_CASE("a run stopped at rest whose publication failed resumes to publish and does not step on past its rest",
+          "[outputs][checkpoint]") {
+  // Its last checkpoint is at its rest, before t_end: resumed, it stepped on to t_end, writing
+  // frames and a summary the run it finishes never had.
+  const fs::path whole = testing::fresh_dir("rest_whole"), dir = testing::fresh_dir("rest");
+  const std::vector<std::string> sets = {"output_interval=0.004", "t_end=0.02", "stop.kinetic_energy_below=1e9",
+                                         "stop.not_before=0.008"};
+  run_whole(sets, whole);
+  run_whole(sets, dir);
+  for (const char* name : {"summary.json", "result.xdmf", "picture.png", "units.csv", "wall_loads.csv"})
+    fs::remove(dir / name);
+  const Outcome r = run_kiln({"run", "--restart", (dir / "checkpoint.h5").string(), "--quiet"});
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK(same_bits(frames_of(whole / "result.h5"), frames_of(dir / "result.h5")));
+  const nlohmann::json summary = summary_of(dir);
+  CHECK(summary["stopped_early"] == "at_rest");
+  CHECK(summary["t_end"].get<double>() == Approx(0.008));
+  fs::remove_all(dir);
+  fs::remove_all(whole);
+}
+
 TEST_CASE("a text output that cannot be written is an OutputError naming the file and its partial file is removed",
           "[outputs]") {
   // In a child whose files may not exceed 4 KiB, as on a disk that fills up while writing.
