@@ -9,6 +9,9 @@ namespace kiln {
 class Progress {
  public:
   Progress(std::string label, bool quiet);
+  ~Progress() { finish(); }  // an error thrown meanwhile starts on a line of its own
+  Progress(const Progress&) = delete;
+  Progress& operator=(const Progress&) = delete;
   void update(double t, double t_end);           // a run: simulated time
   void update_runs(long done, long total);        // a study: finished simulations
   void update_items(long done, long total, const char* items);  // "done of total items"

@@ -21,6 +21,7 @@
 #include <type_traits>
 #include <vector>
 
+#include "src/base/progress.h"
 #include "src/geometry/periodic_cell.h"
 #include "src/base/vec2.h"
 
@@ -56,10 +57,11 @@ class Broadphase {
   // every pair i < j of discs within r_i + r_j + skin of each other (in a periodic cell, every
   // pair whose nearest images are; some pairs may be visited twice, once per image), keeping
   // nothing but a tree of its own, and stops at the first visit that returns false. Memory O(n);
-  // time O(n log n) plus the candidates visited before it stops.
+  // time O(n log n) plus the candidates visited before it stops. `progress`, when given, is told
+  // how many discs have been queried.
   template <class Visit>
   void scan_particle_pairs(const double* x, const double* y, const double* r, int n, const PeriodicCell& cell,
-                           Visit&& visit) const;
+                           Visit&& visit, Progress* progress = nullptr) const;
 
   // Calls fn(index) for every proxy of `tree` whose fat box overlaps `box`, with Box2D's
   // templated, non-virtual query; when fn returns bool, false ends the query. Returns false when
@@ -116,7 +118,7 @@ bool Broadphase::query(const b2DynamicTree& tree, const b2AABB& box, F& fn) {
 
 template <class Visit>
 void Broadphase::scan_particle_pairs(const double* x, const double* y, const double* r, int n,
-                                     const PeriodicCell& cell, Visit&& visit) const {
+                                     const PeriodicCell& cell, Visit&& visit, Progress* progress) const {
   b2DynamicTree tree;
   std::vector<int> order;  // queried along the curve too: neighbouring queries walk the same nodes
   insert_along_curve(tree, x, y, r, n, order);
@@ -125,6 +127,7 @@ void Broadphase::scan_particle_pairs(const double* x, const double* y, const dou
   const int kx = cell.x ? 1 : 0, ky = cell.y ? 1 : 0;
   const double lx = cell.x ? cell.length_x() : 0, ly = cell.y ? cell.length_y() : 0;
   for (int i : order) {
+    if (progress && rank[i] % 4096 == 0) progress->update_items(rank[i], n, "discs");
     auto candidate = [&](int j) {
       if (rank[j] <= rank[i]) return true;
       const Vec2 d = cell.minimum_image(x[j] - x[i], y[j] - y[i]);

@@ -24,6 +24,9 @@ void check_initial_contacts(const SceneNode& root, const Scene& scene, const Par
   // Streamed, stopping at the first fault: a typo that puts a million discs on one point must be
   // told at once, not after listing its half a trillion pairs. Allowed overlaps are bounded by
   // the run's own overlap check, which would stop the run at its first step.
+  // Millions of discs take seconds to a minute (`kiln check` said nothing meanwhile): shown on a
+  // terminal.
+  Progress progress("checking the start's overlaps", scene.n_particles() < (1 << 17));
   bp.scan_particle_pairs(x.data(), y.data(), scene.radius.data(), scene.n_particles(), scene.periodic, [&](int i, int j) {
     if (part_of_a_wall(i) && part_of_a_wall(j)) return true;  // walls do not touch walls
     const Location& at = sets.location[sets.of[j]];
@@ -48,7 +51,8 @@ void check_initial_contacts(const SceneNode& root, const Scene& scene, const Par
       throw InputError(at, msg.str());
     }
     return true;
-  });
+  }, &progress);
+  progress.finish();
   std::vector<CandidatePair> pairs;
   std::vector<Vec2> a, b;
   for (const Segment& s : scene.segments) {
