@@ -5,7 +5,9 @@
 // The file: groups /real (float64 arrays), /integer (int64 arrays), /text (bytes), one dataset per key.
 #pragma once
 #include <algorithm>
+#include <cmath>
 #include <initializer_list>
+#include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -143,13 +145,25 @@ class SnapshotFields {
     throw Snapshot::layout_error(in_->source(), "holds " + std::to_string(v.size()) + " values in '" + prefix_ + key +
                                                     "' where " + allowed + " belong");
   }
+  // A real read into a T: a count kept among reals must be a whole number T holds (converting NaN
+  // or 1e300 to an integer is undefined).
+  template <class T>
+  T real_as(double x, const std::string& key) const {
+    if constexpr (std::is_integral_v<T>) {
+      if (!(x >= static_cast<double>(std::numeric_limits<T>::min()) &&
+            x < std::ldexp(1.0, std::numeric_limits<T>::digits) && x == std::floor(x)))
+        throw Snapshot::layout_error(in_->source(), "holds " + std::to_string(x) + " in '" + prefix_ + key +
+                                                        "' where a whole number belongs");
+    }
+    return static_cast<T>(x);
+  }
   // Several scalars in one array under one key, in this order.
   template <class... T>
   void reals(const std::string& key, T&... v) {
     if (out_) return out_->put(prefix_ + key, std::vector<double>{static_cast<double>(v)...});
     const std::vector<double>& got = sized(in_->reals(prefix_ + key), sizeof...(T), key);
     size_t k = 0;
-    ((v = static_cast<T>(got[k++])), ...);
+    ((v = real_as<T>(got[k++], key)), ...);
   }
   template <class... T>
   void integers(const std::string& key, T&... v) {

@@ -99,15 +99,16 @@ class DischargeObserver final : public Observer {
                                 {"bulk_density", density_}};
   }
   void state(ObserverState& s) override {
-    s.field("level", level_);
+    s.field("level", level_, {level_.size()});  // one per particle, as constructed
     s.field("mass", mass_);
     s.field("count", count_);
     s.field("next", next_);
+    // One sample of each series at each time (read back: the lengths the report walks together).
     s.field("time", time_);
-    s.field("mass_history", mass_history_);
-    s.field("count_history", count_history_);
-    s.field("density", density_);
-    s.field("packing", packing_);
+    s.field("mass_history", mass_history_, {time_.size()});
+    s.field("count_history", count_history_, {time_.size()});
+    s.field("density", density_, {time_.size()});
+    s.field("packing", packing_, {time_.size()});
   }
 
  private:

@@ -80,11 +80,12 @@ class ImpactObserver final : public Observer {
   }
 
   void state(ObserverState& s) override {
-    s.field("touching", touching_);
-    s.field("histogram", histogram_);
-    s.field("count", count_);
-    s.field("total", total_);
-    s.field("largest", largest_);
+    // Per particle and wall, per wall and bin, per wall: the lengths constructed.
+    s.field("touching", touching_, {touching_.size()});
+    s.field("histogram", histogram_, {histogram_.size()});
+    s.field("count", count_, {count_.size()});
+    s.field("total", total_, {total_.size()});
+    s.field("largest", largest_, {largest_.size()});
   }
 
  private:

@@ -73,10 +73,11 @@ class MixingObserver final : public Observer {
   }
   void state(ObserverState& s) override {
     s.field("next", next_);
+    // One sample of each series at each time (read back: the lengths the report walks together).
     s.field("time", time_);
-    s.field("index", index_);
-    s.field("spread", spread_);
-    s.field("tilt", tilt_);
+    s.field("index", index_, {time_.size()});
+    s.field("spread", spread_, {sys_.thermal() ? time_.size() : 0});
+    s.field("tilt", tilt_, {time_.size()});
   }
 
  private:

@@ -159,10 +159,12 @@ class ShearObserver final : public Observer {
     s.field("normal", normal_);
     s.field("gap", gap_);
     s.field("span", span_);
-    s.field("speed_sum", speed_sum_);
-    s.field("weight", weight_);
-    s.field("heat", heat_);
-    s.field("last_temp", last_temp_);
+    // Per layer (none before the cell opened), per particle (a thermal run's, once sampled).
+    const size_t layers = layers_ >= 0 ? static_cast<size_t>(layers_) : SIZE_MAX;
+    s.field("speed_sum", speed_sum_, {layers});
+    s.field("weight", weight_, {layers});
+    s.field("heat", heat_, {layers});
+    s.field("last_temp", last_temp_, {size_t{0}, static_cast<size_t>(sys_.particles())});
   }
 
  private:
