@@ -252,6 +252,10 @@ class DemSystem final : public OdeSystem {
   // and particles of walls.
   enum class PairExtras { none, heat, any };
   template <bool Threaded, bool History, PairExtras X, class M>
+  void contact_loop(Evaluation& e);  // the loop compiled for its case, in one version or two
+  template <bool History, class M>
+  void plain_contact_loop(Evaluation& e);
+  template <bool Threaded, bool History, PairExtras X, class M>
   void pair_contact_loop(Evaluation& e);
   // What a particle contact reads of its two particles, packed per particle (one cache line) at
   // the start of the stage: the contact loop then holds one pointer for them instead of eight,
