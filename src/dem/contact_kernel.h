@@ -146,8 +146,7 @@ template <bool History, class M>
   } else if (history) {
     forget(list, p);
   }
-  f.fx = -fn * nx - f.tangential * ny;
-  f.fy = -fn * ny + f.tangential * nx;
+  set_resultant(f, fn, nx, ny);
   return f;
 }
 

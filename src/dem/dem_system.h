@@ -382,6 +382,27 @@ class DemSystem final : public OdeSystem {
   };
   template <bool History, class M>
   ContactForces contact(const ContactArrays& list, int p, const ContactKinematics& c) const;
+  // The force on i from the normal force fn and f's tangential force, n = (nx, ny) from i.
+  [[gnu::always_inline]] static void set_resultant(ContactForces& f, double fn, double nx, double ny) {
+    f.fx = -fn * nx - f.tangential * ny;
+    f.fy = -fn * ny + f.tangential * nx;
+  }
+  // A contact's row from its forces: the torques of its tangential force at the lever arms (a
+  // wall's arm is 0) and its couple, friction's and the dashpot's work forces.
+  // work_rate = -F_t ((v_i - v_j) . t + arm_i w_i + arm_j w_j) - M (w_i - w_j)
+  [[gnu::always_inline]] static ContactRow row_of(const ContactForces& f, double nx, double ny, double arm_i,
+                                                  double arm_other) {
+    ContactRow row;
+    row.fx = f.fx;
+    row.fy = f.fy;
+    row.torque_i = arm_i * f.tangential + f.couple;
+    row.torque_j = arm_other * f.tangential - f.couple;
+    row.gx = f.tangential * ny;
+    row.gy = -f.tangential * nx;
+    row.dx = f.dashpot * nx;
+    row.dy = f.dashpot * ny;
+    return row;
+  }
   contact::TangentialLaw tangential_law(const ContactCoefficients& lf, const contact::NormalLaw& nl,
                                         double overlap) const;
   contact::RollingLaw rolling_law(const ContactCoefficients& lf, const contact::NormalLaw& nl, double overlap,

@@ -90,15 +90,21 @@ template <bool Threaded, class M, class Act>
     const double trial = known ? stretched : 0.0;  // a contact that began in this step starts unstretched
     const contact::TangentialResult t = contact::tangential_force(law, trial, slip_speed, fn);
     q.spring[u] = t.spring;
-    q.work[u] = 0.0 - t.force * slip_speed;
-    q.fx[u] = -fn * nx - t.force * ny;
-    q.fy[u] = -fn * ny + t.force * nx;
-    q.torque_i[u] = arm_i * t.force + 0.0;  // no rolling couple
-    q.torque_j[u] = arm_j * t.force - 0.0;
-    q.gx[u] = t.force * ny;
-    q.gy[u] = -t.force * nx;
-    q.dx[u] = dashpot * nx;
-    q.dy[u] = dashpot * ny;
+    ContactForces f;  // no rolling couple
+    f.tangential = t.force;
+    f.dashpot = dashpot;
+    f.work_rate -= t.force * slip_speed;
+    set_resultant(f, fn, nx, ny);
+    const ContactRow row = row_of(f, nx, ny, arm_i, arm_j);
+    q.work[u] = f.work_rate;
+    q.fx[u] = row.fx;
+    q.fy[u] = row.fy;
+    q.torque_i[u] = row.torque_i;
+    q.torque_j[u] = row.torque_j;
+    q.gx[u] = row.gx;
+    q.gy[u] = row.gy;
+    q.dx[u] = row.dx;
+    q.dy[u] = row.dy;
     q.worst[u] = overlap * q.inv_r[u];
   }
   for (int u = 0; u < count; ++u) {
@@ -245,16 +251,7 @@ template <bool Threaded, bool History, DemSystem::PairExtras X, class M>
         c.spun_other = pj.spun;
       }
       const ContactForces f = contact<History, M>(list, p, c);
-      ContactRow row;
-      row.fx = f.fx;
-      row.fy = f.fy;
-      // work_rate = -F_t ((v_i - v_j) . t + arm_i w_i + arm_j w_j) - M (w_i - w_j)
-      row.torque_i = c.arm_i * f.tangential + f.couple;
-      row.torque_j = c.arm_other * f.tangential - f.couple;
-      row.gx = f.tangential * ny;
-      row.gy = -f.tangential * nx;
-      row.dx = f.dashpot * nx;
-      row.dy = f.dashpot * ny;
+      const ContactRow row = row_of(f, nx, ny, c.arm_i, c.arm_other);
       if constexpr (Threaded)
         pp_.rows[p] = row;
       else

@@ -50,16 +50,8 @@ void DemSystem::wall_contact_forces(Evaluation& e) {
     }
     const ContactForces f = contact<true, void>(list, p, c);
     const double power = f.fx * u.x + f.fy * u.y + f.couple * wall_spin;
-    ContactRow row;
-    row.fx = f.fx;
-    row.fy = f.fy;
     // work_rate = -F_t ((v_i - u) . t + r w_i) - M (w_i - wall spin): the u and spin parts are no g
-    row.torque_i = r * f.tangential + f.couple;
-    row.torque_j = 0;
-    row.gx = f.tangential * n.y;
-    row.gy = -f.tangential * n.x;
-    row.dx = f.dashpot * n.x;
-    row.dy = f.dashpot * n.y;
+    const ContactRow row = row_of(f, n.x, n.y, r, 0.0);
     add_row(sums, list.si[p], -1, row);
     e.damping += f.damping_power;
     e.friction_work += f.work_rate;
