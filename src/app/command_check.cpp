@@ -19,6 +19,7 @@ class CheckCommand final : public Command {
     add_scene_options(cli_, scene_args_);
     cli_->get_option("scene")->required();
     cli_->add_flag("--json", json_, "write the estimates and the verdict as JSON on standard output");
+    cli_->add_flag("--quiet")->description("no progress line (on a terminal, scenes of 131,072 particles or more show one)");
   }
 
   int run() override {

@@ -4,6 +4,7 @@
 #include "src/app/command_options.h"
 #include "src/base/atomic_write.h"
 #include "src/base/error.h"
+#include "src/base/progress.h"
 #include "src/scene/scene_yaml.h"
 #include "src/studies/study_order.h"
 #include "src/studies/study_ranks.h"
@@ -54,6 +55,7 @@ class StudyCommand final : public Command {
     if (this_rank() != 0) {
       o_.out_dir.clear();
       o_.quiet = true;
+      silence_progress();
     } else {
       require_writable_directory(o_.out_dir, "--out");
     }

@@ -9,6 +9,7 @@
 
 #include "src/app/command.h"
 #include "src/base/error.h"
+#include "src/base/progress.h"
 #include "src/studies/study_ranks.h"
 
 int main(int argc, char** argv) {
@@ -26,6 +27,10 @@ int main(int argc, char** argv) {
     // --help and --version exit 0; a bad argument is bad input.
     return app.exit(e) == 0 ? kiln::exit_success : kiln::exit_bad_input;
   }
+  // --quiet silences every progress line, those of a scene's loading and checks included.
+  for (const CLI::App* sub : app.get_subcommands())
+    if (const CLI::Option* quiet = sub->get_option_no_throw("--quiet"); quiet && quiet->count() > 0)
+      kiln::silence_progress();
   // Every error ends through finish_ranks: a study under mpirun (src/studies/study_ranks.h) tells
   // the other ranks, which would otherwise wait for this one; elsewhere it prints the message.
   try {

@@ -2,12 +2,19 @@
 
 #include <unistd.h>
 
+#include <atomic>
 #include <cstdio>
 
 namespace kiln {
 
-Progress::Progress(std::string label, bool quiet)
-    : label_(std::move(label)), enabled_(!quiet && isatty(STDERR_FILENO)) {
+namespace {
+std::atomic<bool> silenced{false};
+bool shows(bool quiet) { return !quiet && !silenced && isatty(STDERR_FILENO); }
+}  // namespace
+
+void silence_progress() { silenced = true; }
+
+Progress::Progress(std::string label, bool quiet) : label_(std::move(label)), enabled_(shows(quiet)) {
   start_ = last_ = std::chrono::steady_clock::now();
 }
 
@@ -40,6 +47,36 @@ void Progress::show(double done, const std::string& what) {
 void Progress::finish() {
   if (shown_) std::fprintf(stderr, "\n");
   shown_ = false;
+}
+
+PhaseProgress::PhaseProgress(std::string label, bool quiet)
+    : label_(std::move(label)), start_(std::chrono::steady_clock::now()) {
+  if (shows(quiet)) thread_ = std::thread([this] { tick(); });
+}
+
+PhaseProgress::~PhaseProgress() {
+  if (!thread_.joinable()) return;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    done_ = true;
+  }
+  wake_.notify_one();
+  thread_.join();
+  if (shown_) std::fprintf(stderr, "\n");  // an error thrown meanwhile starts on a line of its own
+}
+
+void PhaseProgress::phase(std::string what) {
+  std::lock_guard<std::mutex> lock(mutex_);
+  what_ = std::move(what);
+}
+
+void PhaseProgress::tick() {
+  std::unique_lock<std::mutex> lock(mutex_);
+  while (!wake_.wait_for(lock, std::chrono::milliseconds(500), [this] { return done_; })) {
+    const double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    std::fprintf(stderr, "\r%s: %s, %.0f s elapsed   ", label_.c_str(), what_.c_str(), elapsed);
+    shown_ = true;
+  }
 }
 
 }  // namespace kiln

@@ -30,10 +30,14 @@ b2AABB Broadphase::box(double x0, double y0, double x1, double y1) const {
 // scene, and each query of a sparse fill met a good part of the tree: the start check of 10^6
 // discs took 150 s, growing as n^1.8.
 void Broadphase::insert_along_curve(b2DynamicTree& tree, const double* x, const double* y, const double* r, int n,
-                                    std::vector<int>& order) const {
+                                    std::vector<int>& order, Progress* progress) const {
   std::vector<uint64_t> keys;
   hilbert_order(x, y, n, order, keys);
-  for (int i : order) tree.CreateProxy(box(x[i] - r[i], y[i] - r[i], x[i] + r[i], y[i] + r[i]), as_user_data(i));
+  for (int k = 0; k < n; ++k) {
+    if (progress && k % 4096 == 0) progress->update_items(k, n, "discs in the tree");
+    const int i = order[k];
+    tree.CreateProxy(box(x[i] - r[i], y[i] - r[i], x[i] + r[i], y[i] + r[i]), as_user_data(i));
+  }
 }
 
 void Broadphase::forget_particles() {

@@ -9,6 +9,7 @@
 #include "contact/normal_force.h"
 #include "src/dem/contact_coefficients.h"
 #include "src/dem/dem_system.h"
+#include "src/base/progress.h"
 #include "src/base/wall_clock.h"
 #include "src/dem/frozen_conduction.h"
 #include "integrators/stability_region.h"
@@ -249,7 +250,8 @@ double probe_overlap(const Scene& scene, int a, int b, double m_eff, double r_ef
 // The start's contacts, and the lone contacts free particles can form: with each other, with a
 // held (fixed or attached) particle, whose mass does not count, and with each wall. Two held
 // particles never meet.
-MechanicalLimit scene_limit(const Scene& scene, const std::string& integrator, const ImpactSpeeds& speeds) {
+MechanicalLimit scene_limit(const Scene& scene, const std::string& integrator, const ImpactSpeeds& speeds,
+                            PhaseProgress& progress) {
   const int nm = scene.n_materials();
   std::vector<double> rmin(nm, INFINITY), rheld(nm, INFINITY);  // smallest free and held radius per material
   std::vector<int> count(nm, 0), held(nm, 0);
@@ -268,11 +270,13 @@ MechanicalLimit scene_limit(const Scene& scene, const std::string& integrator, c
     if (l.dt < best.dt || (std::isinf(best.dt) && best.state.empty())) best = l;
   };
   {
+    progress.phase("the contacts at t = 0");
     DemSystem system(scene);
     const std::vector<double> y = system.initial_state();
     system.prepare(0, y.data(), 0);
     consider(mechanical_limit(system, 0, y.data(), integrator, "the contacts at t = 0"));
   }
+  progress.phase("lone contacts of the smallest particles");
   for_each_material_pair(scene, rmin, count, [&](int a, int b, double m_eff, double r_eff) {
     const double overlap = probe_overlap(scene, a, b, m_eff, r_eff, std::min(rmin[a], rmin[b]), speeds.pair);
     consider(probe_limit(lone_contact(scene, a, rmin[a], b, rmin[b], -1, overlap), integrator,
@@ -311,6 +315,8 @@ MechanicalLimit scene_limit(const Scene& scene, const std::string& integrator, c
 
 StabilityEstimate estimate_stability(const Scene& scene, const std::string& integrator) {
   const auto start = std::chrono::steady_clock::now();
+  // 10^7 discs: a minute, which `kiln check` spent without a word.
+  PhaseProgress progress("estimating the stability limit", scene.n_particles() < progress_min_items);
   StabilityEstimate est;
   const ImpactSpeeds speeds = impact_speeds(scene);
   est.impact_speed = std::max(speeds.wall, speeds.pair);
@@ -362,11 +368,12 @@ StabilityEstimate estimate_stability(const Scene& scene, const std::string& inte
   }
   if (!scene.frozen) {
     est.integrator = integrator.empty() ? scene.integrator : integrator;
-    est.limit = scene_limit(scene, est.integrator, speeds);
+    est.limit = scene_limit(scene, est.integrator, speeds, progress);
     est.dt_limit = est.limit.dt;
   }
   est.recommended_dt = std::min(est.contact_duration / 50, est.dt_limit);
   if (scene.thermal) {
+    progress.phase("the conduction network at t = 0");
     thermal_estimate(scene, rmin, count, est);
     est.conduction_dt_limit =
         real_stability_of(integrator.empty() ? scene.integrator : integrator) / 2 * est.thermal_dt_limit_network;

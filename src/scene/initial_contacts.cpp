@@ -26,7 +26,7 @@ void check_initial_contacts(const SceneNode& root, const Scene& scene, const Par
   // the run's own overlap check, which would stop the run at its first step.
   // Millions of discs take seconds to a minute (`kiln check` said nothing meanwhile): shown on a
   // terminal.
-  Progress progress("checking the start's overlaps", scene.n_particles() < (1 << 17));
+  Progress progress("checking the start's overlaps", scene.n_particles() < progress_min_items);
   bp.scan_particle_pairs(x.data(), y.data(), scene.radius.data(), scene.n_particles(), scene.periodic, [&](int i, int j) {
     if (part_of_a_wall(i) && part_of_a_wall(j)) return true;  // walls do not touch walls
     const Location& at = sets.location[sets.of[j]];

@@ -127,7 +127,7 @@ Placement random_fill(const Region& region, int count, const RadiusDistribution&
   Placement out;
   // A fill of millions takes a minute or more (`kiln check` said nothing meanwhile): shown on a
   // terminal.
-  Progress progress("placing discs", count < (1 << 17));
+  Progress progress("placing discs", count < progress_min_items);
   for (int k = 0; k < count; ++k) {
     if (k % 4096 == 0) progress.update_items(k, count, "discs");
     const double r = radii.draw(rng);
@@ -156,6 +156,8 @@ Placement lattice(bool hexagonal, Vec2 origin, double spacing, int rows, int col
   Random rng(seed);
   Placement out;
   const double row_height = hexagonal ? spacing * std::sqrt(3.0) / 2 : spacing;
+  out.position.reserve(static_cast<size_t>(rows) * static_cast<size_t>(columns));  // counts checked by the caller
+  out.radius.reserve(out.position.capacity());
   for (int row = 0; row < rows; ++row)
     for (int col = 0; col < columns; ++col) {
       Vec2 p{origin.x + spacing * (col + (hexagonal && row % 2 ? 0.5 : 0.0)), origin.y + row_height * row};
