@@ -199,10 +199,19 @@ def draw(panels, ledger, figures, summary, target):
     try:
         fig.savefig(tmp, dpi=100, format="png", metadata={"Description": "panels: " + "; ".join(titles)})
         os.replace(tmp, target)
+    except OSError as e:  # a full disk: one line, not a traceback (kiln plot exits 4 on it)
+        if os.path.exists(tmp):
+            os.remove(tmp)
+        print(f"error: cannot write {tmp}: {e.strerror or e}", file=sys.stderr)
+        return OUTPUT_FAILED
     except BaseException:
         if os.path.exists(tmp):
             os.remove(tmp)
         raise
+    return 0
+
+
+OUTPUT_FAILED = 4  # kiln's exit code of an output that could not be written (src/base/error.h)
 
 
 def main(directory, keys):
@@ -217,9 +226,8 @@ def main(directory, keys):
     result = os.path.join(directory, "result.h5")
     if os.path.exists(result):
         panels += series_of_result(result)
-    draw(panels, energy_ledger(summary), figures_of_summary(summary, described), summary,
-         os.path.join(directory, "plots.png"))
-    return 0
+    return draw(panels, energy_ledger(summary), figures_of_summary(summary, described), summary,
+                os.path.join(directory, "plots.png"))
 
 
 if __name__ == "__main__":

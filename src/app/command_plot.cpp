@@ -54,6 +54,9 @@ class PlotCommand final : public Command {
     const ProgramResult r = run_program(
         {"/usr/bin/python3", std::string(KILN_SCRIPTS_DIR) + "/plot_case.py", dir_, "--keys", catalogue_keys()});
     std::fprintf(stderr, "%s", r.errors.c_str());  // the script's warnings and errors
+    // 4: the script could not write plots.png (a full disk) and said so in one line; before, its
+    // traceback was printed, then a hint to install matplotlib.
+    if (r.status == exit_output_failed) return exit_output_failed;
     if (r.status != 0) {
       std::fprintf(stderr, "error: %s/plots.png not written (it needs Debian's /usr/bin/python3 with matplotlib and "
                            "h5py: apt-get install python3-matplotlib python3-h5py)\n", dir_.c_str());

@@ -15,6 +15,7 @@
 #include "src/run/simulation.h"
 #include "src/run/stability.h"
 #include "src/scene/overrides.h"
+#include "src/scene/scene_yaml.h"
 
 namespace kiln {
 
@@ -59,13 +60,7 @@ struct RunArgs {
   std::string movie;    // a field to draw the movie by when the run ends, or ""
 };
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (!in) throw InputError(path + ": cannot read the scene file");
-  return text.str();
-}
+std::string read_text(const std::string& path) { return read_scene_text(path); }
 
 // The summary line of a run that ended, or where a stopped one stopped and how to go on.
 void report_run(const Scene& scene, const nlohmann::json& s, const std::string& out, bool quiet) {

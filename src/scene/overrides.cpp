@@ -32,7 +32,11 @@ std::vector<std::string> keys_of(const YAML::Node& map) {
 YAML::Node read_value(const std::string& path, const std::string& text) {
   YAML::Node value;
   try {
-    value = YAML::Load(text);
+    // Every document is read: `--set 'dt=2e-6\n---\nx: 1'` was read as 2e-6, the rest dropped unread.
+    const std::vector<YAML::Node> documents = YAML::LoadAll(text);
+    if (documents.size() > 1)
+      throw InputError({"--set", 0, path}, "the value holds a second YAML document (after '---'): give one value");
+    if (!documents.empty()) value = documents.front();
   } catch (const YAML::Exception& e) {
     throw InputError({"--set", 0, path}, std::string("cannot read the value: ") + e.what());
   }

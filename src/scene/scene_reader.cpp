@@ -76,7 +76,20 @@ class StructureWalk {
                                        "tag:yaml.org,2002:float", "tag:yaml.org,2002:bool", "tag:yaml.org,2002:null",
                                        "tag:yaml.org,2002:map", "tag:yaml.org,2002:seq"};
     const std::string& tag = node.Tag();
-    if (tag.empty() || std::find(std::begin(core), std::end(core), tag) != std::end(core)) return;
+    if (tag.empty() || tag == "?" || tag == "!") return;
+    if (std::find(std::begin(core), std::end(core), tag) != std::end(core)) {
+      // A core tag names a kind of node: !!seq on a map was read as the map (issue 28's campaign).
+      const bool fits = tag == "tag:yaml.org,2002:map"   ? node.IsMap()
+                        : tag == "tag:yaml.org,2002:seq" ? node.IsSequence()
+                                                         : node.IsScalar() || node.IsNull();
+      if (fits) return;
+      throw InputError(at(node, path), "the tag '" + tag + "' stands for a " +
+                                           (tag == "tag:yaml.org,2002:map"   ? "map"
+                                            : tag == "tag:yaml.org,2002:seq" ? "list"
+                                                                             : "single value") +
+                                           ", and it is given to a " + (node.IsMap() ? "map" : node.IsSequence() ? "list" : "value") +
+                                           ": remove the tag");
+    }
     throw InputError(at(node, path), "the tag '" + tag.substr(0, 60) +
                                          "' is not read by kiln (a scene uses YAML's plain numbers, words, "
                                          "lists and maps; !!str, !!int, !!float, !!bool and !!null are read as they say)");
@@ -238,18 +251,38 @@ std::vector<std::pair<std::string, SceneNode>> SceneNode::entries() const {
 }
 
 // A number, a count or a truth value is a plain scalar or one tagged as such: YAML reads a quoted
-// "8900" and !!str 8900 as text, which yaml-cpp would convert silently (PyYAML keeps text).
-void SceneNode::not_text(const char* expected) const {
+// "8900" and !!str 8900 as text, which yaml-cpp would convert silently (PyYAML keeps text). The
+// core schema's other tags are held to what they say too: yaml-cpp read `!!int 0.5` as 0.5,
+// `!!null 2.0e-6` as 2e-6 and `!!bool 1` as a number (issue 28's campaign).
+void SceneNode::not_text(const char* expected, ScalarKind kind) const {
   const std::string& tag = node_.Tag();
   if (tag == "!" || tag == "tag:yaml.org,2002:str")
     fail(std::string("expected ") + expected + ", got the text '" + node_.Scalar().substr(0, 60) + "' (" +
          (tag == "!" ? "quoted" : "tagged !!str") + ": YAML reads it as text; remove the " +
          (tag == "!" ? "quotes" : "tag") + ")");
+  const auto refuse = [&](const std::string& tagged, const std::string& reads_as) {
+    fail(std::string("expected ") + expected + ", got '" + node_.Scalar().substr(0, 60) + "' tagged " + tagged +
+         ": YAML reads it as " + reads_as + "; remove the tag");
+  };
+  const bool is_int = tag == "tag:yaml.org,2002:int", is_float = tag == "tag:yaml.org,2002:float";
+  if (tag == "tag:yaml.org,2002:null") refuse("!!null", "null (no value)");
+  if (tag == "tag:yaml.org,2002:bool" && kind != ScalarKind::truth) refuse("!!bool", "a truth value");
+  if ((is_int || is_float) && kind == ScalarKind::truth) refuse(is_int ? "!!int" : "!!float", "a number");
+  if (is_int && kind == ScalarKind::number) {
+    // The core schema's integers: decimal, 0o octal, 0x hexadecimal.
+    const std::string& s = node_.Scalar();
+    const size_t sign = !s.empty() && (s[0] == '-' || s[0] == '+') ? 1 : 0;
+    const bool whole = (s.size() > sign && s.find_first_not_of("0123456789", sign) == std::string::npos) ||
+                       (s.size() > 2 && s.rfind("0o", 0) == 0 && s.find_first_not_of("01234567", 2) == std::string::npos) ||
+                       (s.size() > 2 && s.rfind("0x", 0) == 0 &&
+                        s.find_first_not_of("0123456789abcdefABCDEF", 2) == std::string::npos);
+    if (!whole) refuse("!!int", "a whole number, which it is not");
+  }
 }
 
 double SceneNode::number(const char* expected) const {
   if (!node_.IsScalar()) fail(std::string("expected ") + expected);
-  not_text(expected);
+  not_text(expected, ScalarKind::number);
   double v = 0;
   try {
     v = node_.as<double>();
@@ -290,7 +323,7 @@ double SceneNode::in_range(double lo, double hi, bool lo_open, bool hi_open) con
 long long SceneNode::integer(long long min_value, long long max_value) const {
   const std::string range = "a whole number in [" + std::to_string(min_value) + ", " + std::to_string(max_value) + "]";
   if (!node_.IsScalar()) fail("expected " + range);
-  not_text(range.c_str());
+  not_text(range.c_str(), ScalarKind::whole);
   long long v = 0;
   try {
     v = node_.as<long long>();
@@ -310,7 +343,7 @@ double SceneNode::temperature() const {
 
 bool SceneNode::boolean() const {
   if (!node_.IsScalar()) fail("expected true or false");
-  not_text("true or false");
+  not_text("true or false", ScalarKind::truth);
   try {
     return node_.as<bool>();
   } catch (const YAML::Exception&) {

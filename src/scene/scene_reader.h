@@ -93,7 +93,9 @@ class SceneNode {
   std::string child_path(const std::string& key) const;
   SceneNode child(YAML::Node node, const std::string& key) const;
   bool from_command_line(const std::string& path) const;
-  void not_text(const char* expected) const;
+  // What a scalar's tag lets it be: a number, a whole number or a truth value.
+  enum class ScalarKind { number, whole, truth };
+  void not_text(const char* expected, ScalarKind kind) const;
   [[noreturn]] void fail_unknown_key(const YAML::Node& key, const std::vector<std::string>& valid) const;
   YAML::Node node_;
   std::string path_;     // dotted path, e.g. particles.0.radius

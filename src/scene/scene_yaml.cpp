@@ -6,10 +6,12 @@
 
 #include <algorithm>
 #include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <vector>
 
+#include "src/base/text_format.h"
 #include "src/scene/overrides.h"
 #include "src/scene/scene_parts.h"
 
@@ -95,6 +97,20 @@ Scene parse_scene(const std::string& written, const std::string& file, const std
     if (text[k] == '\r' && (k + 1 == text.size() || text[k + 1] != '\n')) text[k] = '\n';
   // Names and texts end up in summary.json: text the JSON writer would refuse is refused here.
   check_utf8(text, file);
+  // YAML allows no control character but tab, line feed and carriage return, comments included
+  // (PyYAML refuses them; yaml-cpp read a NUL byte in a comment as part of the comment).
+  for (size_t k = 0, line = 1, line_start = 0; k < text.size(); ++k) {
+    const unsigned char c = static_cast<unsigned char>(text[k]);
+    if (c == '\n') {
+      ++line;
+      line_start = k + 1;
+    } else if ((c < 0x20 && c != '\t' && c != '\r') || c == 0x7f) {
+      throw InputError({file, static_cast<int>(line), ""},
+                       format("a control character (byte 0x%02x) at column %zu: YAML allows none but tab, line feed "
+                              "and carriage return",
+                              c, k - line_start + 1));
+    }
+  }
   YAML::Node doc;
   try {
     // Every document is read, so that a second one is refused rather than dropped unread.
@@ -127,12 +143,29 @@ Scene parse_scene(const std::string& written, const std::string& file, const std
   return scene;
 }
 
-Scene load_scene(const std::string& path, const std::vector<std::string>& overrides, uint64_t memory) {
-  std::ifstream in(path);
+std::string read_scene_text(const std::string& path) {
+  // The largest drawing kiln reads is 64 MiB too (svg_geometry.cpp). A device that never ends
+  // (/dev/zero, /dev/urandom) is refused once that much is read: it used to be read whole, until
+  // the kernel's out-of-memory killer ended kiln (24 GB, SIGKILL).
+  constexpr size_t largest = size_t{64} << 20;
+  std::error_code error;
+  if (std::filesystem::is_directory(path, error)) throw InputError({path, 0, ""}, "is a directory, not a scene file");
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError({path, 0, ""}, "cannot open the scene file");
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse_scene(text.str(), path, overrides, memory);
+  std::string text;
+  std::vector<char> piece(size_t{1} << 16);
+  while (in.read(piece.data(), static_cast<std::streamsize>(piece.size())) || in.gcount() > 0) {
+    text.append(piece.data(), static_cast<size_t>(in.gcount()));
+    if (text.size() > largest)
+      throw InputError({path, 0, ""}, "is larger than 64 MiB: not a scene (a scene's text takes kB; give many "
+                                      "particles in a particle file, particles: - file:)");
+  }
+  if (in.bad()) throw InputError({path, 0, ""}, "cannot read the scene file");
+  return text;
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides, uint64_t memory) {
+  return parse_scene(read_scene_text(path), path, overrides, memory);
 }
 
 }  // namespace kiln

@@ -14,6 +14,10 @@ namespace kiln {
 // The machine's physical memory in bytes.
 uint64_t physical_memory();
 
+// The text of a scene file, read in pieces and refused past 64 MiB (a scene's text is a few kB to a
+// few MB; /dev/zero or a mistaken file used to be read until the machine's memory ran out).
+std::string read_scene_text(const std::string& path);
+
 // Reads `path`, applies the `--set` assignments, then checks and expands everything.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {},
                  uint64_t memory = physical_memory());

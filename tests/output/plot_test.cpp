@@ -99,3 +99,27 @@ TEST_CASE("kiln plot on a directory without summary.json fails naming it and wri
   CHECK(fs::is_empty(dir));
   fs::remove_all(dir);
 }
+
+TEST_CASE("kiln plot on a full disk says it could not write plots.png in one line, exit 4, no traceback", "[plot]") {
+  // Issue 28's campaign: with no room for plots.png, kiln plot printed the Python traceback of the
+  // failed write, then a hint to install matplotlib. (ulimit -f stands in for a full disk: Python
+  // ignores SIGXFSZ, so the write fails with EFBIG.)
+  const fs::path dir = testing::fresh_dir("plot_full");
+  fs::create_directories(dir);
+  std::ofstream(dir / "summary.json") << R"({"scene": "pile", "integrator": "velocity-verlet", "t_end": 1,
+    "mixing_history": {"time": [0, 1], "lacey_index": [0.1, 0.4]}})";
+  const fs::path log = dir.string() + ".log";
+  const std::string cmd = "ulimit -f 8 && " + std::string(KILN_BINARY) + " plot " + dir.string() + " --quiet > " +
+                          log.string() + " 2>&1";
+  const int status = std::system(("sh -c '" + cmd + "'").c_str());
+  const std::string output = read_all(log);
+  fs::remove(log);
+  INFO(output);
+  CHECK((WIFEXITED(status) ? WEXITSTATUS(status) : -1) == 4);
+  CHECK_THAT(output, Catch::Contains("cannot write " + (dir / "plots.png.tmp").string()));
+  CHECK_THAT(output, !Catch::Contains("Traceback"));
+  CHECK_THAT(output, !Catch::Contains("apt-get"));
+  CHECK_FALSE(fs::exists(dir / "plots.png"));
+  CHECK_FALSE(fs::exists(dir / "plots.png.tmp"));
+  fs::remove_all(dir);
+}

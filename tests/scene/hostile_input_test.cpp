@@ -508,3 +508,51 @@ TEST_CASE("more particles than Box2D's tree holds are refused before any is plac
   CHECK(has(msg, "key 'particles.0.lattice'"));
   CHECK(has(msg, "more than the 16777216 that Box2D's tree holds"));
 }
+
+TEST_CASE("a scene file beyond 64 MiB, or a device that never ends, is refused once 64 MiB are read", "[hostile]") {
+  // Issue 28's campaign: kiln check /dev/zero read until the kernel's out-of-memory killer ended
+  // it (24 GB, SIGKILL); a 1 GB file was read whole before the parser saw a byte.
+  const std::filesystem::path dir = testing::fresh_dir("big_scene");
+  std::filesystem::create_directories(dir);
+  const std::filesystem::path big = dir / "big.yaml";
+  std::ofstream(big).close();
+  std::filesystem::resize_file(big, uint64_t{1} << 30);  // sparse: it takes no disk
+  const auto t0 = std::chrono::steady_clock::now();
+  REQUIRE_THROWS_WITH(load_scene(big.string()), Catch::Contains("big.yaml") && Catch::Contains("larger than 64 MiB"));
+  CHECK_THROWS_WITH(load_scene("/dev/zero"), Catch::Contains("/dev/zero") && Catch::Contains("larger than 64 MiB"));
+  CHECK(seconds_since(t0) < hang_bound);
+  CHECK_THROWS_WITH(load_scene(dir.string()), Catch::Contains("is a directory"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("core tags are held to what they say: !!int on a fraction, !!null or !!bool on a number, !!seq on a map",
+          "[hostile]") {
+  // Issue 28's campaign: yaml-cpp read `!!int 0.5` as 0.5, `!!null 0.01` as 0.01 and `!!seq {...}`
+  // as the map; the YAML core schema reads them otherwise (or not at all).
+  CHECK(has(error_of(replaced(scene, "density: 8900", "density: !!int 0.5")),
+            "key 'materials.copper.density': expected a number, got '0.5' tagged !!int"));
+  CHECK(has(error_of(replaced(scene, "t_end: 0.01", "t_end: !!null 0.01")), "key 't_end'"));
+  CHECK(has(error_of(replaced(scene, "t_end: 0.01", "t_end: !!null 0.01")), "tagged !!null"));
+  CHECK(has(error_of(replaced(scene, "density: 8900", "density: !!bool 8900")), "tagged !!bool"));
+  CHECK(has(error_of(replaced(scene, "radius: 0.002", "radius: !!seq 0.002")), "the tag 'tag:yaml.org,2002:seq'"));
+  CHECK(has(error_of(replaced(scene, "at: [[", "at: !!map [[")), "stands for a map"));
+  CHECK(error_of(replaced(scene, "density: 8900", "density: !!int 8900")).empty());
+  CHECK(error_of(replaced(scene, "density: 8900", "density: !!float 8900")).empty());
+  CHECK(error_of(replaced(scene, "copper: {density", "copper: !!map {density")).empty());
+}
+
+TEST_CASE("a --set value is one YAML document: a second one is refused, not dropped", "[hostile]") {
+  // Issue 28's campaign: `--set 'dt=2e-6\n---\nx: 1'` ran with dt = 2e-6, the rest unread.
+  CHECK(has(error_of(scene, {"dt=2.0e-6\n---\nx: 1"}), "second YAML document"));
+  CHECK(error_of(scene, {"dt=2.0e-6"}).empty());
+}
+
+TEST_CASE("a control character anywhere in a scene, a comment included, is refused at its line and column",
+          "[hostile]") {
+  // Issue 28's campaign: a NUL byte inside a comment was read as part of the comment (YAML allows
+  // no control character but tab, line feed and carriage return; PyYAML refuses the file).
+  const std::string nul = replaced(scene, "t_end: 0.01\n", "t_end: 0.01 # ten ms") + std::string(1, '\0') + " more\n";
+  CHECK(has(error_of(nul), "bad.yaml:11: a control character (byte 0x00) at column 21"));
+  CHECK(has(error_of(replaced(scene, "name: ok", "name: ok # \x1b[31m")), "byte 0x1b"));
+  CHECK(error_of(replaced(scene, "name: ok", "name: ok\t# a tab")).empty());
+}
