@@ -427,6 +427,16 @@ void H5Frames::close() {
   if (H5Fclose(file_) < 0) status = -1;
   file_ = -1;
   h5_check(status, "finish writing", path_);
+  // The room reserved ahead of HDF5 (reserve_room) is given back here: HDF5 does not cut the file
+  // to its end of allocation when it closes, and a published result kept the last reservation as
+  // zeros (issue 28's campaign: 80 kB of T3's 185 kB; 12.9 MB of 41.7 MB for 200,000 discs).
+  const hid_t again = H5Fopen(path_.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  haddr_t end = 0;
+  const bool known = again >= 0 && H5Fget_eoa(again, &end) >= 0 && end > 0;
+  if (again >= 0) H5Fclose(again);
+  H5Eclear2(H5E_DEFAULT);
+  if (known && ::truncate(path_.c_str(), static_cast<off_t>(end)) != 0)
+    throw OutputError("cannot give back the room reserved in " + path_ + ": " + std::strerror(errno));
 }
 
 void H5Frames::abandon() {

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -191,6 +192,21 @@ TEST_CASE("kiln run writes result.h5, result.xdmf, summary.json and picture.png,
   CHECK(time.back() == Approx(0.01));
   CHECK(testing::read_dataset(dir / "result.h5", "position").size() == 11 * 3);
   CHECK(testing::read_dataset(dir / "result.h5", "radius") == std::vector<double>{0.002});
+  fs::remove_all(dir);
+}
+
+TEST_CASE("a published result.h5 ends where HDF5's contents end: the room reserved for frames is given back",
+          "[outputs]") {
+  // Issue 28's campaign: the last posix_fallocate reservation stayed in the published file as zeros
+  // (T3 to 0.02 s: 185,252 bytes, 80,533 of them trailing zeros; 104,804 before the reservations).
+  const fs::path dir = testing::fresh_dir("outputs_size");
+  run_scene(load_scene(testing::case_path("t3_heap.yaml"), {"t_end=0.02"}), {dir.string(), true});
+  std::ifstream in(dir / "result.h5", std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t zeros = bytes.size() - (bytes.find_last_not_of('\0') + 1);
+  CHECK(zeros < 1024);
+  CHECK(bytes.size() < 120000);
+  CHECK(testing::read_dataset(dir / "result.h5", "time").size() == 3);  // readable, every frame
   fs::remove_all(dir);
 }
 
