@@ -211,6 +211,9 @@ def yaml_read(text):
             seen.add(id(n))
             if n.tag not in CORE_TAGS:
                 out["tags"].append(n.tag)
+            elif (isinstance(n, yaml.ScalarNode) and n.tag == "tag:yaml.org,2002:null" and
+                  n.value not in ("", "~", "null", "Null", "NULL")):  # `!!null 300.0`: null, whatever it says
+                out["tags"].append("!!null on '%s'" % n.value[:20])
             if isinstance(n, yaml.SequenceNode):
                 stack.extend(n.value)
             elif isinstance(n, yaml.MappingNode):
@@ -274,7 +277,7 @@ def yaml_oracle(text, base_paths, summary, frames):
     if len(docs) > 1:
         why.append("Y1 %d YAML documents; kiln read one" % len(docs))
     if y["tags"]:
-        why.append("Y3 tags beyond the core schema: " + ", ".join(sorted(set(y["tags"])))[:200])
+        why.append("Y3 tags beyond the core schema, or !!null on a value: " + ", ".join(sorted(set(y["tags"])))[:200])
     doc = docs[0] if docs else None
     if isinstance(doc, dict) and base_paths:
         mine = paths_of(doc)
@@ -1635,8 +1638,14 @@ def part_e(new, old, out, reps, log):
     def t3_few_frames(k, d):
         return [k, "run", T, "--quiet", "--profile", "--out", d, "--t-end", "0.02"]
 
-    def restart(k, d):
-        return [k, "run", "--restart", Path(ckdir[k]) / "checkpoint.h5", "--t-end", "0.2002"]
+    def restart(k, d):  # goes on from a 0.2 s run's checkpoint for 100 steps (a fresh copy each time)
+        return None
+
+    def big_run(k, d):  # the start check, 2 steps and two checkpoints of 200,000 discs
+        return [k, "run", big, "--quiet", "--profile", "--out", d, "--set", "dt=1e-6", "--t-end", "2e-6"]
+
+    def big_restart(k, d):  # reads that run's checkpoint, 2 steps more
+        return None
 
     def check_small(k, d):
         return [k, "check", T]
@@ -1646,7 +1655,10 @@ def part_e(new, old, out, reps, log):
     measures = [("T3 whole run (the main command)", t3_full, 1), ("T3 0.2 s, default checkpoints", t3_plain, 1),
                 ("T3 0.2 s, a checkpoint every 0.002 s (100)", t3_ckpt, 1), ("T3 0.02 s, 11 frames", t3_few_frames, 1),
                 ("T3 0.02 s, a frame every step (10,001)", t3_frames, 1), ("restart from a T3 checkpoint (one step)", restart, 5),
-                ("kiln check T3", check_small, 10), ("kiln check, 200,000 discs on a lattice", check_big, 1)]
+                ("kiln check T3", check_small, 10), ("kiln check, 200,000 discs on a lattice", check_big, 1),
+                ("run of 200,000 discs: start check, 2 steps, 2 checkpoints", big_run, 1),
+                ("restart of 200,000 discs from its checkpoint, 2 steps", big_restart, 1)]
+    sources = {restart: ([T, "--t-end", "0.2"], "0.2002"), big_restart: ([big, "--set", "dt=1e-6", "--t-end", "2e-6"], "4e-6")}
     rows = []
     for name, make, inner in measures:
         times = {"old": [], "new": []}
@@ -1655,17 +1667,17 @@ def part_e(new, old, out, reps, log):
             order = (("old", old), ("new", new)) if rep % 2 == 0 else (("new", new), ("old", old))
             for label, binary in order:
                 d = work / ("%s_%d" % (label, len(rows)))
-                if make is restart and binary not in ckdir:
-                    cd = work / ("ck_" + label)
+                if make in sources and (binary, name) not in ckdir:
+                    cd = work / ("ck_%s_%d" % (label, len(rows)))
                     shutil.rmtree(cd, ignore_errors=True)
-                    r = run_proc([binary, "run", T, "--quiet", "--out", cd, "--t-end", "0.2"], 600)
-                    ckdir[binary] = cd
+                    r = run_proc([binary, "run"] + sources[make][0] + ["--quiet", "--out", cd], 600)
+                    ckdir[(binary, name)] = cd
                 for _ in range(inner):
                     shutil.rmtree(d, ignore_errors=True)
-                    if make is restart:  # the restart goes on from the run's checkpoint at 0.2 s: a fresh copy each time
+                    if make in sources:  # a fresh copy of the run each time
                         shutil.rmtree(work / "rs", ignore_errors=True)
-                        shutil.copytree(ckdir[binary], work / "rs", ignore=shutil.ignore_patterns(".kiln.lock", "previous"))
-                        argv = [binary, "run", "--restart", work / "rs" / "checkpoint.h5", "--t-end", "0.2002", "--quiet"]
+                        shutil.copytree(ckdir[(binary, name)], work / "rs", ignore=shutil.ignore_patterns(".kiln.lock", "previous"))
+                        argv = [binary, "run", "--restart", work / "rs" / "checkpoint.h5", "--t-end", sources[make][1], "--quiet"]
                     else:
                         argv = make(binary, d)
                     r = run_proc(argv, 1800)
