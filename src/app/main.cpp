@@ -3,12 +3,14 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "src/app/command.h"
 #include "src/base/error.h"
+#include "src/base/nearest.h"
 #include "src/base/progress.h"
 #include "src/studies/study_ranks.h"
 
@@ -21,6 +23,17 @@ int main(int argc, char** argv) {
                    kiln::add_order_command, kiln::add_sweep_command, kiln::add_wp_command,
                    kiln::add_recommend_command})
     commands.push_back(add(app));
+  // A first word that is no command ("kiln chek"): CLI11 answers "A subcommand is required", which
+  // does not say that the word was read, nor what the commands are.
+  if (argc > 1 && argv[1][0] != '-') {
+    std::vector<std::string> names;
+    for (const CLI::App* sub : app.get_subcommands({})) names.push_back(sub->get_name());
+    if (std::find(names.begin(), names.end(), argv[1]) == names.end()) {
+      std::fprintf(stderr, "error: '%s' is not a kiln command; the commands are %s (kiln --help says what each does)\n",
+                   std::string(argv[1]).substr(0, 100).c_str(), kiln::choices_nearest_first(argv[1], names).c_str());
+      return kiln::exit_bad_input;
+    }
+  }
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

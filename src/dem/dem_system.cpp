@@ -9,15 +9,6 @@
 
 namespace kiln {
 
-double disc_mass(const Scene& scene, double r, double density) {
-  return scene.mass_model == MassModel::sphere ? 4.0 / 3.0 * M_PI * r * r * r * density
-                                               : M_PI * r * r * scene.thickness * density;
-}
-
-double disc_inertia(const Scene& scene, double m, double r) {
-  return (scene.mass_model == MassModel::sphere ? 0.4 : 0.5) * m * r * r;
-}
-
 namespace {
 
 double automatic_skin(const Scene& scene) {

@@ -534,8 +534,4 @@ class DemSystem final : public OdeSystem {
   double seg_time_ = -1;
 };
 
-// Mass and moment of inertia of a disc under the scene's mass model.
-double disc_mass(const Scene& scene, double radius, double density);
-double disc_inertia(const Scene& scene, double mass, double radius);
-
 }  // namespace kiln

@@ -67,8 +67,10 @@ LinearisedMechanics linearise_mechanics(const DemSystem& system, double t, const
 // ("normal", "tangential-rotational", "rolling"), or "wall body" when wall bodies carry most of
 // its kinetic energy; and the contact that holds most of that energy ("particles 3 and 7",
 // "particle 0 on wall floor") or the wall ("wall lid").
+// A mode whose shape is lost (a stiffness near double's range, 1e300 N/m, overflows the step
+// map's eigenvectors) is still named, as what it is, rather than printed as "its  mode".
 struct ModeDescription {
-  std::string kind, where;
+  std::string kind = "unresolved", where = "no contact singled out: its shape was lost to overflow or round-off";
 };
 ModeDescription describe_mode(const LinearisedMechanics& m, const Eigen::VectorXcd& reduced_shape, const Scene& scene);
 

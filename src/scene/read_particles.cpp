@@ -3,8 +3,10 @@
 #include "src/scene/scene_parts.h"
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <optional>
+#include "src/base/text_format.h"
 #include "src/scene/particle_file.h"
 #include "src/scene/particle_fill.h"
 
@@ -148,6 +150,18 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
     const Vec2 velocity = ps.optional("velocity") ? ps["velocity"].vec2() : Vec2{};
     const double spin = ps.number_or("angular_velocity", 0);
     const Placement placed = read_placement(ps, scene, claim, file ? &*file : nullptr);
+    // The lightest disc's mass and moment of inertia must be normal numbers: a density of 1e-300
+    // passed every range, and the run divided by a subnormal mass, died of NaN and blamed dt
+    // (issue 28's campaign).
+    if (!placed.radius.empty()) {
+      const double r = *std::min_element(placed.radius.begin(), placed.radius.end());
+      const double density = scene.materials[mat].density, m = disc_mass(scene, r, density);
+      if (!(m >= DBL_MIN) || !(disc_inertia(scene, m, r) >= DBL_MIN))
+        ps["material"].fail(format("this set's smallest disc (radius %g m, density %g kg/m^3) has a mass of %g kg: its "
+                                   "mass and moment of inertia must be at least %g (the smallest normal double), or "
+                                   "its accelerations overflow; raise the density",
+                                   r, density, m, DBL_MIN));
+    }
     for (size_t k = 0; k < placed.position.size(); ++k)
       if (!within_reach(placed.position[k]))
         ps.fail("particle " + std::to_string(k) + " of this set lies at " + out_of_reach);

@@ -136,4 +136,15 @@ struct Scene {
   std::vector<std::string> report;    // case quantities to compute (observer_catalogue.h)
 };
 
+// A disc's mass (kg) and moment of inertia (kg m^2) under the scene's mass model: a sphere's,
+// m = 4/3 pi r^3 rho and I = 2/5 m r^2, or a cylinder's of the scene's thickness t,
+// m = pi r^2 t rho and I = 1/2 m r^2.
+inline double disc_mass(const Scene& scene, double r, double density) {
+  return scene.mass_model == MassModel::sphere ? 4.0 / 3.0 * M_PI * r * r * r * density
+                                               : M_PI * r * r * scene.thickness * density;
+}
+inline double disc_inertia(const Scene& scene, double m, double r) {
+  return (scene.mass_model == MassModel::sphere ? 0.4 : 0.5) * m * r * r;
+}
+
 }  // namespace kiln

@@ -53,3 +53,13 @@ TEST_CASE("a study whose --out cannot be written is refused before its runs, wit
   CHECK(out.status == 2);
   CHECK(has(out.output, "--out " + (dir / "a_file" / "order").string() + ": cannot write there (Not a directory)"));
 }
+
+TEST_CASE("a first word that is no command is named, with the commands nearest it first, exit 2", "[errors]") {
+  const auto dir = kiln::testing::fresh_dir("command_line_word");
+  std::filesystem::create_directories(dir);
+  // It was "A subcommand is required" (issue 28's campaign, F7): as if no word had been given.
+  const auto out = kiln::testing::run_kiln_command("chek " + kiln::testing::case_path("t1_free_fall.yaml"), dir / "log");
+  CHECK(out.status == 2);
+  CHECK(has(out.output, "'chek' is not a kiln command; the commands are 'check', "));
+  CHECK_FALSE(has(out.output, "A subcommand is required"));
+}

@@ -70,7 +70,7 @@ TEST_CASE("a stage shows nothing when asked to be quiet or shorter than half a s
   CHECK(terminal.read_back().empty());
 }
 
-TEST_CASE("--quiet silences every progress line in the process, a scene's checks included") {
+TEST_CASE("a process told to be quiet (--quiet) shows no progress line, a scene's checks included") {
   StderrOnTerminal terminal;
   silence_progress();
   {

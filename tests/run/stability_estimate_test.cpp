@@ -2,6 +2,7 @@
 // (WallMotion::largest_speed): every moving wall pushes discs at its speed, a load-controlled one too.
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <string>
 
 #include "src/run/simulation.h"
@@ -62,4 +63,17 @@ TEST_CASE("a run's wall seconds are its steps' and the stability estimate's seco
   INFO("estimate " << estimate << " s, run " << run << " s");
   CHECK(estimate > 0);
   CHECK(run < 0.5 * estimate);
+}
+
+TEST_CASE("a stiffness near double's range still names the binding mode in the estimate and its refusal", "[stability]") {
+  // Issue 28's campaign (F6): at k = 1e300 N/m the step map's mode shape overflowed, and the
+  // refusal read "(its  mode, ...)".
+  const Scene scene = load_scene(testing::case_path("t3_heap.yaml"), {"materials.copper.stiffness=1e300"});
+  const StabilityEstimate est = estimate_stability(scene);
+  REQUIRE(std::isfinite(est.dt_limit));
+  CHECK(!est.limit.mode.empty());
+  const DtVerdict verdict = judge_dt(est, scene.dt, scene);
+  CHECK(verdict.unstable);
+  REQUIRE(!verdict.warnings.empty());
+  for (const std::string& w : verdict.warnings) CHECK(w.find("its  mode") == std::string::npos);
 }

@@ -460,6 +460,18 @@ TEST_CASE("a density whose mass overflows is refused at its key instead of runni
   CHECK_NOTHROW(load_scene(testing::case_path("t1_free_fall.yaml"), {"materials.copper.density=8.9e10"}));
 }
 
+TEST_CASE("a density whose lightest disc's mass is not a normal double is refused at the set, naming the mass",
+          "[hostile]") {
+  // Issue 28's campaign (F8): 1e-300 and 1e-320 kg/m^3 passed `kiln check`, and the run divided
+  // by a subnormal (or zero) mass, died of NaN and recommended "dt <= 0 s".
+  for (const char* density : {"materials.copper.density=1e-300", "materials.copper.density=1e-320"}) {
+    INFO(density);
+    CHECK_THROWS_WITH(load_scene(testing::case_path("t3_heap.yaml"), {density}),
+                      Catch::Contains("key 'particles.0.material'") && Catch::Contains("smallest normal double"));
+  }
+  CHECK_NOTHROW(load_scene(testing::case_path("t3_heap.yaml"), {"materials.copper.density=1e-200"}));
+}
+
 TEST_CASE("YAML read as YAML: quoted or !!str numbers, unknown tags and a second document are refused, a lone CR is a line break",
           "[hostile]") {
   // yaml-cpp converted the text "8900" to a number (PyYAML keeps text), ignored tags and every
