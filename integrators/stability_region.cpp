@@ -161,7 +161,13 @@ StepLimit verlet_limit(const IntegratorInfo& info, const Eigen::MatrixXd& k, con
   StepLimit out;
   const double rate = fastest_rate(k, c);
   if (!(rate > 0)) return out;
-  LinearModes modes(k, c);
+  // Time in units of 1/rate: K / rate^2 and C / rate, steps dt rate. The step map is the same
+  // (its velocities and carried rates scaled by powers of rate, a similarity), but its entries
+  // span a few orders instead of hundreds: at rate 1e131 (a disc of 1e-250 kg/m^3) they ran from
+  // 1e-132 to 1e262, no balancing evened them, and every step was judged unstable ("no stable
+  // step", and the run died of NaN).
+  const Eigen::MatrixXd k_scaled = k / rate / rate, c_scaled = c / rate;
+  LinearModes modes(k_scaled, c_scaled);
   // A free body's translation is a Jordan block at 1 whose computed eigenvalues split by the
   // square root of the round-off (1e-8), below growth_per_step.
   auto radius = [&](double h, Eigen::VectorXcd* shape) {
@@ -180,15 +186,15 @@ StepLimit verlet_limit(const IntegratorInfo& info, const Eigen::MatrixXd& k, con
   // bisection from 0. Each probe is an eigenvalue solve of the step map, the cost of the estimate.
   double lo = 0, hi = 0;
   for (double s = 0.1; s < 100; s *= 1.05) {
-    if (!stable(s / rate)) {
-      hi = s / rate;
+    if (!stable(s)) {
+      hi = s;
       break;
     }
-    lo = s / rate;
+    lo = s;
   }
   if (hi == 0) return out;  // stable however long the step (no spring nor dashpot binds)
   for (int it = 0; it < 50 && hi - lo > 1e-9 * hi; ++it) (stable(0.5 * (lo + hi)) ? lo : hi) = 0.5 * (lo + hi);
-  out.dt = lo;
+  out.dt = lo / rate;
   radius(hi * (1 + 1e-6), &out.shape);
   return out;
 }

@@ -77,3 +77,15 @@ TEST_CASE("a stiffness near double's range still names the binding mode in the e
   REQUIRE(!verdict.warnings.empty());
   for (const std::string& w : verdict.warnings) CHECK(w.find("its  mode") == std::string::npos);
 }
+
+TEST_CASE("a contact hundreds of orders faster than SI's scale gets its stability limit, not 'no stable step'",
+          "[stability]") {
+  // Issue 28's campaign (F8): at 1e-250 kg/m^3 a disc's contact rings at 1e131 rad/s; the step
+  // map's entries spanned 1e-132 to 1e262 and every step was judged unstable ("no stable step",
+  // a warning, exit 0), and the run died of NaN. The limit is found in units of 1/omega.
+  const Scene scene = load_scene(testing::case_path("t3_heap.yaml"), {"materials.copper.density=1e-250"});
+  const StabilityEstimate est = estimate_stability(scene);
+  CHECK(est.dt_limit > 1e-133);
+  CHECK(est.dt_limit < 1e-130);
+  CHECK(judge_dt(est, scene.dt, scene).unstable);
+}
