@@ -10,6 +10,8 @@ struct HeapShape {
   double angle_left_deg = NAN, angle_right_deg = NAN, angle_deg = NAN;
   double packing_fraction = NAN;
 };
+// NaN figures where there is no heap to measure: fewer than three surface columns on a side, or
+// discs spread over more than 2^20 columns of one mean diameter.
 HeapShape measure_heap(const std::vector<double>& x, const std::vector<double>& y, const std::vector<double>& r);
 
 }  // namespace kiln

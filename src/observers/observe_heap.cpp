@@ -44,9 +44,15 @@ HeapShape measure_heap(const std::vector<double>& x, const std::vector<double>& 
     xmax = std::max(xmax, x[i] + r[i]);
     floor = std::min(floor, y[i] - r[i]);
   }
-  // Surface profile: the highest disc top in columns one mean diameter wide.
+  // Surface profile: the highest disc top in columns one mean diameter wide. Discs spread over
+  // more columns than max_columns make no heap to measure (three discs of 0.1 mm at x = -9e5, 0
+  // and 9e5 m: the count overflowed an int, the index went negative, and the finished run
+  // crashed writing its summary, its restart too).
+  constexpr double max_columns = 1 << 20;
   const double width = 2 * rmean;
-  const int bins = std::max(1, static_cast<int>(std::ceil((xmax - xmin) / width)));
+  const double span = std::ceil((xmax - xmin) / width);
+  if (!(span <= max_columns)) return shape;
+  const int bins = std::max(1, static_cast<int>(span));
   std::vector<double> top(bins, floor);
   for (size_t i = 0; i < n; ++i) {
     const int b = std::min(bins - 1, static_cast<int>((x[i] - xmin) / width));

@@ -15,6 +15,7 @@
 #include "src/observers/observer.h"
 #include "src/scene/overrides.h"
 #include "src/base/progress.h"
+#include "src/base/text_format.h"
 #include "src/output/run_outputs.h"
 #include "src/scene/scene_yaml.h"
 #include "src/run/stability_guard.h"
@@ -585,6 +586,17 @@ void SceneRun::resume(const Snapshot& s) {
                      std::to_string(y_.size()));
   SnapshotFields fields(s, "");
   state(fields);
+  // Places no scene could give, beyond 1e6 m from the origin along an axis that is not periodic
+  // (there the state keeps unwrapped positions): a coordinate times 1e10 with fresh checksums
+  // was resumed and crashed the heap observer at the run's end.
+  for (int i = 0; i < system_.particles(); ++i) {
+    const double x = y_[system_.x_at() + i], y = y_[system_.y_at() + i];
+    if ((!scene_.periodic.x && !(std::abs(x) <= farthest_coordinate)) ||
+        (!scene_.periodic.y && !(std::abs(y) <= farthest_coordinate)))
+      throw InputError(s.source() + ": the checkpoint places particle " + std::to_string(i) + " at (" +
+                       format("%g, %g", x, y) + ") m in 'state', beyond 1e6 m from the origin, where no scene can "
+                       "place one: refused");
+  }
   // At t_end, a run that was not published (its output failed, or it was killed publishing) is
   // resumed to publish it.
   const bool published = options_.out_dir.empty() || RunOutputs::published(options_.out_dir, run_id_, t);

@@ -28,6 +28,21 @@ TEST_CASE("heap measurement recovers the slope and packing of a synthetic triang
   CHECK(shape.packing_fraction == Approx(M_PI / (2 * std::sqrt(3.0))).margin(0.01));
 }
 
+TEST_CASE("discs spread over kilometres make no heap: its figures are not numbers, and the run's summary is written",
+          "[heap]") {
+  // Issue 28's review: three 0.1 mm discs at x = -9e5, 0 and 9e5 m (within the scene's ranges)
+  // crashed the finished run as it wrote its summary: the column count overflowed an int.
+  const HeapShape far = measure_heap({-9e5, 0, 9e5}, {0, 0, 0}, {1e-4, 1e-4, 1e-4});
+  CHECK(std::isnan(far.angle_deg));
+  CHECK(std::isnan(far.packing_fraction));
+  const auto dir = testing::fresh_dir("heap_far");
+  const auto out = testing::run_kiln_command("run " + testing::case_path("../tests/fuzz/regressions/issue28_heap_report_far_discs.yaml") +
+                                                 " --quiet --out " + dir.string(),
+                                             dir.string() + ".log");
+  CHECK(out.status == 0);
+  CHECK(std::filesystem::exists(dir / "summary.json"));
+}
+
 TEST_CASE("T3: poured copper discs come to rest in a heap with a slope and random-close packing", "[heap][heavy]") {
   const Scene scene = load_scene(testing::case_path("t3_heap.yaml"), {"particles.0.fill.count=200"});
   const auto s = run_scene(scene, {"", true});

@@ -111,3 +111,26 @@ TEST_CASE("a checkpoint whose observer series differ in length or whose counts a
     CHECK_THROWS_WITH(kiln::run_scene(scene, o), Catch::Contains(key));
   }
 }
+
+// Issue 28's review: a coordinate times 1e10 with fresh checksums (the adversary checksums cannot
+// see) resumed, and the heap observer crashed at the run's end. No scene places a particle beyond
+// 1e6 m; nor does a checkpoint now.
+TEST_CASE("a checkpoint that places a particle beyond 1e6 m from the origin is refused, naming the state",
+          "[checkpoint][hostile]") {
+  using namespace kiln::fuzz::checkpoint_detail;
+  kiln::Snapshot s = base(cases_dir);
+  std::vector<double> state = s.reals("state");
+  state[0] *= 1e10;
+  s.put("state", state);
+  const std::string path = (work_dir() / "far.h5").string();
+  s.write(path);
+  const kiln::Snapshot checkpoint = kiln::Snapshot::read(path);
+  kiln::RunOptions o;
+  o.quiet = true;
+  o.resume = &checkpoint;
+  const double t = checkpoint.real("time");
+  const kiln::Scene scene = kiln::scene_of_checkpoint(checkpoint, {kiln::assignment("t_end", t + 1e-3)}, o.source);
+  const kiln::StabilityEstimate estimate = kiln::estimate_stability(scene);
+  o.estimate = &estimate;
+  CHECK_THROWS_WITH(kiln::run_scene(scene, o), Catch::Contains("'state'") && Catch::Contains("beyond 1e6 m"));
+}
