@@ -22,6 +22,21 @@ std::vector<uint8_t> bytes_of(const std::filesystem::path& file) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
+// `s` written as `file`, read back and resumed for a millisecond (what --restart does).
+void resume_for_a_millisecond(const kiln::Snapshot& s, const std::string& file) {
+  const std::string path = (kiln::fuzz::checkpoint_detail::work_dir() / file).string();
+  s.write(path);
+  const kiln::Snapshot checkpoint = kiln::Snapshot::read(path);
+  kiln::RunOptions o;
+  o.quiet = true;
+  o.resume = &checkpoint;
+  const double t = checkpoint.real("time");
+  const kiln::Scene scene = kiln::scene_of_checkpoint(checkpoint, {kiln::assignment("t_end", t + 1e-3)}, o.source);
+  const kiln::StabilityEstimate estimate = kiln::estimate_stability(scene);
+  o.estimate = &estimate;
+  kiln::run_scene(scene, o);
+}
+
 }  // namespace
 
 TEST_CASE("every checkpoint edit of the fuzzer's corpus and findings is refused or resumed, never crashed on",
@@ -98,17 +113,7 @@ TEST_CASE("a checkpoint whose observer series differ in length or whose counts a
     kiln::Snapshot s = base(cases_dir);
     REQUIRE(s.reals(key).size() >= 2);
     s.put(key, value);
-    const std::string path = (work_dir() / "observer.h5").string();
-    s.write(path);
-    const kiln::Snapshot checkpoint = kiln::Snapshot::read(path);
-    kiln::RunOptions o;
-    o.quiet = true;
-    o.resume = &checkpoint;
-    const double t = checkpoint.real("time");
-    const kiln::Scene scene = kiln::scene_of_checkpoint(checkpoint, {kiln::assignment("t_end", t + 1e-3)}, o.source);
-    const kiln::StabilityEstimate estimate = kiln::estimate_stability(scene);
-    o.estimate = &estimate;
-    CHECK_THROWS_WITH(kiln::run_scene(scene, o), Catch::Contains(key));
+    CHECK_THROWS_WITH(resume_for_a_millisecond(s, "observer.h5"), Catch::Contains(key));
   }
 }
 
@@ -122,15 +127,5 @@ TEST_CASE("a checkpoint that places a particle beyond 1e6 m from the origin is r
   std::vector<double> state = s.reals("state");
   state[0] *= 1e10;
   s.put("state", state);
-  const std::string path = (work_dir() / "far.h5").string();
-  s.write(path);
-  const kiln::Snapshot checkpoint = kiln::Snapshot::read(path);
-  kiln::RunOptions o;
-  o.quiet = true;
-  o.resume = &checkpoint;
-  const double t = checkpoint.real("time");
-  const kiln::Scene scene = kiln::scene_of_checkpoint(checkpoint, {kiln::assignment("t_end", t + 1e-3)}, o.source);
-  const kiln::StabilityEstimate estimate = kiln::estimate_stability(scene);
-  o.estimate = &estimate;
-  CHECK_THROWS_WITH(kiln::run_scene(scene, o), Catch::Contains("'state'") && Catch::Contains("beyond 1e6 m"));
+  CHECK_THROWS_WITH(resume_for_a_millisecond(s, "far.h5"), Catch::Contains("'state'") && Catch::Contains("beyond 1e6 m"));
 }
