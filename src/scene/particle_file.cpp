@@ -323,8 +323,6 @@ class LammpsDataReader {
 
 // ---- CSV ----
 
-constexpr double absolute_zero = -273.15;  // C
-
 std::vector<std::string> csv_fields(const std::string& line) {
   std::vector<std::string> out;
   size_t start = 0;
@@ -400,7 +398,8 @@ ParticleFile read_csv(const std::string& path, const ParticleFileLimits& limits)
     out.angular_velocity.push_back(value("omega", 0));
     if (column.count("temperature")) {
       const double t = value("temperature", 0);
-      if (t < absolute_zero) lines.fail("temperature " + fields[column["temperature"]] + " C is below absolute zero (-273.15 C)");
+      if (const std::string why = temperature_refusal(t, fields[column["temperature"]]); !why.empty())
+        lines.fail("temperature " + fields[column["temperature"]] + " C " + why);
       out.temperature.push_back(t);
     }
   }

@@ -27,6 +27,37 @@ inline constexpr double farthest_coordinate = 1e6;
 // a small scene are gigabytes.
 inline constexpr double max_frames = 1e6;
 
+// Temperatures (degrees Celsius) lie in [absolute_zero, hottest_temperature], wherever they are
+// read: particle sets, walls (and their steps and ramps), a particle file's column, --set. Above:
+// kiln's laws are those of solid grains (elastic contacts, conduction through the contact spot, a
+// solid's heat capacity), and no solid survives past about 4,000 C (tantalum hafnium carbide and
+// hafnium carbonitride, the most refractory known, melt between 3,900 and 4,100 C); 1e5 C leaves
+// room for walls that stand for hotter bodies (an electric arc's 6,000 to 20,000 C). Beyond it a
+// temperature is a slip of digits or units, and soon more than double precision carries: the
+// state holds temperatures beside the heat contents m c (T - T0) that the energy ledger sums with
+// the motion's energies, so the spacing of doubles at T times a disc's heat capacity must stay far
+// below those. At 1e5 C doubles are 1.5e-11 K apart; at 2e19 C, 4096 K, where imex4's Newton
+// iteration could not converge and the run failed at t = 0 blaming dt (issue 28's campaign, F9).
+inline constexpr double absolute_zero = -273.15;
+inline constexpr double hottest_temperature = 1e5;
+
+// Why `t` (written `text`) is no temperature, as words that follow the value in a message ("is
+// below absolute zero ..."), naming the valid range; "" when it is one.
+inline std::string temperature_refusal(double t, const std::string& text) {
+  const std::string range = "temperatures lie in [-273.15, 1e5] C";
+  if (!(t >= absolute_zero)) return "is below absolute zero (-273.15 C): " + range;
+  if (!(t <= hottest_temperature)) {
+    std::string why = "is above 1e5 C: " + range + ". kiln's laws are those of solid grains, and no solid survives "
+                      "past about 4,000 C (the most refractory carbides melt there); 1e5 C leaves room for walls "
+                      "that stand for hotter bodies";
+    // Far beyond, double precision itself gives out: say so where a step's heat can no longer show.
+    const double spacing = std::nextafter(t, INFINITY) - t;
+    if (spacing >= 1e-3) why += " (at " + text + " C a double resolves only " + message_number(spacing) + " K)";
+    return why;
+  }
+  return "";
+}
+
 enum class MassModel { sphere, cylinder };
 
 struct Material {

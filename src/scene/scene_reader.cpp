@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "src/base/nearest.h"
+#include "src/scene/scene.h"
 
 namespace kiln {
 
@@ -335,9 +336,10 @@ long long SceneNode::integer(long long min_value, long long max_value) const {
 }
 
 double SceneNode::temperature() const {
-  constexpr double absolute_zero = -273.15;  // scenes give temperatures in degrees Celsius
   const double t = number("a temperature (degrees Celsius)");
-  if (t < absolute_zero) fail("a temperature of " + node_.Scalar() + " C is below absolute zero (-273.15 C)");
+  // Bounded below and above, as everywhere a temperature is read (src/scene/scene.h says why).
+  if (const std::string why = temperature_refusal(t, node_.Scalar()); !why.empty())
+    fail("a temperature of " + node_.Scalar() + " C " + why);
   return t;
 }
 

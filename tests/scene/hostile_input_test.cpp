@@ -568,3 +568,63 @@ TEST_CASE("a control character anywhere in a scene, a comment included, is refus
   CHECK(has(error_of(replaced(scene, "name: ok", "name: ok # \x1b[31m")), "byte 0x1b"));
   CHECK(error_of(replaced(scene, "name: ok", "name: ok\t# a tab")).empty());
 }
+
+TEST_CASE("a temperature above 1e5 C is refused wherever one is read, naming the range and why: sets, halves, walls, "
+          "ramps, a particle file's column, --set",
+          "[hostile]") {
+  // Issue 28's campaign (F9): a particle temperature of 2e19 C passed `kiln check` (only absolute
+  // zero bounded it); imex4's Newton iteration could not converge (doubles are 4096 K apart there)
+  // and the run failed at t = 0 with "ARK_CONV_FAILURE; lower dt".
+  const std::string thermal = replaced(
+      replaced(replaced(scene, "restitution: 0.8}", "restitution: 0.8, specific_heat: 385, conductivity: 400}"),
+               "radius: 0.002", "radius: 0.002\n    temperature: 20"),
+      "segment: [[-0.1, 0], [0.1, 0]]}", "segment: [[-0.1, 0], [0.1, 0]], temperature: 20}");
+  REQUIRE(error_of(thermal).empty());
+  const std::string range = "temperatures lie in [-273.15, 1e5] C";
+  const std::string hot = error_of(replaced(thermal, "temperature: 20", "temperature: 2.0e19"));
+  CHECK(has(hot, "bad.yaml:7: key 'particles.0.temperature': a temperature of 2.0e19 C is above 1e5 C"));
+  CHECK(has(hot, range));
+  CHECK(has(hot, "no solid survives"));
+  CHECK(has(hot, "a double resolves only 4096 K"));
+  struct Case {
+    std::string from, to, key;
+  } cases[] = {
+      {"temperature: 20", "temperature: {x_split: 0, left: 20, right: 1.0e6}", "particles.0.temperature.right"},
+      {"temperature: 20}", "temperature: 3.0e5}", "walls.0.temperature"},
+      {"temperature: 20}", "temperature: {ramp: [[0, 20], [1, 2.0e5]]}}", "walls.0.temperature.ramp.1.1"},
+      {"temperature: 20}", "temperature: {steps: [[0, 1.0e300]]}}", "walls.0.temperature.steps.0.1"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.to);
+    const std::string msg = error_of(replaced(thermal, c.from, c.to));
+    CHECK(has(msg, "key '" + c.key + "'"));
+    CHECK(has(msg, range));
+  }
+  CHECK(has(error_of(thermal, {"particles.0.temperature=2e19"}), "--set: key 'particles.0.temperature'"));
+  CHECK(has(error_of(thermal, {"walls.0.temperature=1e6"}), range));
+  CHECK(error_of(replaced(thermal, "temperature: 20", "temperature: 1.0e5")).empty());   // the bound itself
+  CHECK(error_of(replaced(thermal, "temperature: 20", "temperature: -273.15")).empty());  // and absolute zero
+  // A particle file's temperature column is held to the same range, at its line.
+  const std::filesystem::path dir = testing::fresh_dir("hot_csv");
+  std::filesystem::create_directories(dir);
+  std::ofstream(dir / "set.csv") << "x,y,radius,temperature\n0.0,0.01,0.002,20\n0.01,0.01,0.002,2e19\n";
+  const std::string from_file = replaced(replaced(thermal, "    radius: 0.002\n    temperature: 20\n", ""),
+                                         "at: [[0.0, 0.01], [0.01, 0.01]]", "file: set.csv");
+  std::ofstream(dir / "scene.yaml") << from_file;
+  std::string csv_error;
+  try {
+    load_scene((dir / "scene.yaml").string());
+  } catch (const InputError& e) {
+    csv_error = e.what();
+  }
+  INFO(csv_error);
+  CHECK(has(csv_error, "key 'particles.0.file'"));
+  CHECK(has(csv_error, "set.csv:3: temperature 2e19 C is above 1e5 C"));
+  CHECK(has(csv_error, range));
+  std::filesystem::remove_all(dir);
+  // The campaign's scene, kept among the regressions.
+  const std::filesystem::path regression =
+      std::filesystem::path(KILN_CASES_DIR) / ".." / "tests" / "fuzz" / "regressions" / "issue28_temperature_2e19.yaml";
+  CHECK_THROWS_WITH(load_scene(regression.string()),
+                    Catch::Contains("key 'particles.0.temperature'") && Catch::Contains(range));
+}
