@@ -24,6 +24,50 @@ const char* const common_keys[] = {"between", "model", "restitution", "tension",
                                    "rolling_model", "tangential_stiffness_ratio", "tangential_damping_ratio",
                                    "conduction"};
 
+// The largest value of a material constant that the laws multiply with others, and why it is
+// there: the largest in nature with room for a model's scalings, far below where a product in the
+// laws overflows or its round-off outweighs the energies the ledger checks. Issue 28's campaign
+// (F10): a conductivity of 1e300 passed, a pair's harmonic mean 2 k1 k2 / (k1 + k2) overflowed,
+// check only warned (an explicit conduction limit of 0 s) and the run died of NaN; a specific heat
+// of 1e12 passed and the round-off of the heat contents read as an energy blow-up (N2, T4); a
+// Young's modulus of 1e60 to 1e100 passed as "no stability limit from the contacts" and the run
+// died; two resistivities of 1e308 summed to infinity and shared friction heat wrongly.
+// Not bounded: stiffness (two combine in series without overflow, contact/contact_law.cpp, and the
+// step estimate refuses any that leaves no step), friction and rolling friction (a coefficient
+// only caps a force: a huge one is a contact that never slides, as 1e300 ran on T3), density (its
+// own range, below).
+struct UpperBound {
+  const char* what;  // "a conductivity"
+  double most;
+  const char* unit;
+  const char* why;
+};
+
+constexpr UpperBound youngs_modulus_bound{
+    "a Young's modulus", 1e13, "Pa",
+    "the stiffest solid known, diamond, has 1.2e12 Pa, and a DEM model softens moduli (to lengthen the step), never "
+    "stiffens them"};
+constexpr UpperBound specific_heat_bound{
+    "a specific heat", 1e6, "J/(kg K)",
+    "the largest of any substance is hydrogen's 14,300; above, a disc's heat content m c (T - T0) is so large that "
+    "its round-off outweighs the motion's energies in the energy ledger (1e12 read as an energy blow-up)"};
+constexpr UpperBound conductivity_bound{
+    "a conductivity", 1e6, "W/(m K)",
+    "the largest of any solid is diamond's 2,200 (graphene's 5,000 in its plane), 1e6 leaves room for the "
+    "correction of a softened modulus; 1e300 overflowed a pair's mean conductivity and the run died of NaN"};
+constexpr UpperBound resistivity_bound{
+    "an electrical resistivity", 1e30, "Ohm m",
+    "the best insulators reach 1e25 Ohm m; the share of friction heat sums two resistivities, which overflows near "
+    "1e308"};
+
+double bounded(const SceneNode& node, const UpperBound& bound) {
+  const double v = node.positive();
+  if (v > bound.most)
+    node.fail(std::string("expected ") + bound.what + " in (0, " + message_number(bound.most) + "]" +
+              (*bound.unit ? std::string(" ") + bound.unit : std::string()) + ", got " + node.text() + ": " + bound.why);
+  return v;
+}
+
 Material read_material(const std::string& name, const SceneNode& m) {
   m.allow();
   Material mat;
@@ -32,15 +76,15 @@ Material read_material(const std::string& name, const SceneNode& m) {
   // step); beyond, masses of large particles overflow (1e300 made an infinite mass that blamed dt).
   if (auto v = m.optional("density")) mat.density = v->in_range(0, 1e12, true, false);
   contact::ContactMaterial& c = mat.contact;
-  if (auto v = m.optional("youngs_modulus")) c.youngs_modulus = v->positive();
+  if (auto v = m.optional("youngs_modulus")) c.youngs_modulus = bounded(*v, youngs_modulus_bound);
   if (auto v = m.optional("poisson_ratio")) c.poisson_ratio = v->in_range(-1, 0.5, true, false);
   if (auto v = m.optional("stiffness")) c.stiffness = v->positive();
   if (auto v = m.optional("restitution")) c.restitution = restitution(*v);
   if (auto v = m.optional("friction")) c.friction = v->non_negative();
   if (auto v = m.optional("rolling_friction")) c.rolling_friction = v->non_negative();
-  if (auto v = m.optional("specific_heat")) mat.specific_heat = v->positive();
-  if (auto v = m.optional("conductivity")) mat.conductivity = v->positive();
-  if (auto v = m.optional("electrical_resistivity")) mat.electrical_resistivity = v->positive();
+  if (auto v = m.optional("specific_heat")) mat.specific_heat = bounded(*v, specific_heat_bound);
+  if (auto v = m.optional("conductivity")) mat.conductivity = bounded(*v, conductivity_bound);
+  if (auto v = m.optional("electrical_resistivity")) mat.electrical_resistivity = bounded(*v, resistivity_bound);
   return mat;
 }
 

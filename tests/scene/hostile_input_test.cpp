@@ -628,3 +628,35 @@ TEST_CASE("a temperature above 1e5 C is refused wherever one is read, naming the
   CHECK_THROWS_WITH(load_scene(regression.string()),
                     Catch::Contains("key 'particles.0.temperature'") && Catch::Contains(range));
 }
+
+TEST_CASE("material constants the laws multiply are refused above their physical range at their key, saying why: "
+          "conductivity, specific heat, Young's modulus, resistivity",
+          "[hostile]") {
+  // Issue 28's campaign (F10): a conductivity of 1e300 on N2 passed `kiln check` with a warning, the
+  // pair's harmonic mean 2 k1 k2 / (k1 + k2) overflowed and the run died of NaN. The same kind: a
+  // specific heat of 1e12 (the heat contents' round-off read as an energy blow-up), a Young's
+  // modulus of 1e100 ("no stability limit", then a disc moving 1e76 m a step), resistivities of
+  // 1e308 (their sum, in the share of friction heat, overflowed).
+  const std::string n2 = testing::case_path("n2_heated_steel_bed.yaml");
+  struct Case {
+    std::string set, key, range;
+  } cases[] = {
+      {"materials.steel.conductivity=1e300", "materials.steel.conductivity", "(0, 1e+06] W/(m K)"},
+      {"materials.steel.conductivity=2e6", "materials.steel.conductivity", "diamond's 2,200"},
+      {"materials.steel.specific_heat=1e12", "materials.steel.specific_heat", "(0, 1e+06] J/(kg K)"},
+      {"materials.steel.youngs_modulus=1e100", "materials.steel.youngs_modulus", "(0, 1e+13] Pa"},
+      {"materials.steel.electrical_resistivity=1e308", "materials.steel.electrical_resistivity", "(0, 1e+30] Ohm m"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.set);
+    CHECK_THROWS_WITH(load_scene(n2, {c.set}),
+                      Catch::Contains("--set: key '" + c.key + "'") && Catch::Contains(c.range));
+  }
+  // The bounds themselves, and every shipped material, load.
+  CHECK_NOTHROW(load_scene(n2, {"materials.steel.conductivity=1e6", "materials.steel.specific_heat=1e6",
+                                "materials.steel.youngs_modulus=1e13", "materials.steel.electrical_resistivity=1e30"}));
+  const std::filesystem::path regression = std::filesystem::path(KILN_CASES_DIR) / ".." / "tests" / "fuzz" /
+                                           "regressions" / "issue28_conductivity_1e300.yaml";
+  CHECK_THROWS_WITH(load_scene(regression.string()),
+                    Catch::Contains("key 'materials.steel.conductivity'") && Catch::Contains("overflowed"));
+}
