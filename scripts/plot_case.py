@@ -21,10 +21,7 @@ import math
 import os
 import sys
 
-import matplotlib
-
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+import kiln_figure  # how a figure is written and how the script ends, shared with plot_study.py
 
 ABSCISSAE = ("eta", "height", "y", "x", "radius", "position", "depth")
 
@@ -157,6 +154,7 @@ def draw(panels, ledger, figures, summary, target):
     count = len(panels) + (1 if ledger else 0) + (1 if figures else 0)
     columns = 2 if count > 1 else 1
     rows = max(1, math.ceil(count / columns))
+    plt = kiln_figure.pyplot(target)
     fig, axes = plt.subplots(rows, columns, figsize=(7 * columns, 3.4 * rows), squeeze=False)
     flat = [ax for row in axes for ax in row]
     for ax, panel in zip(flat, panels):
@@ -194,31 +192,15 @@ def draw(panels, ledger, figures, summary, target):
     fig.tight_layout(rect=(0, 0, 1, 0.97))  # room for the title above the panels
     titles = ([panel[0].replace("\n", ": ") for panel in panels] + (["energy ledger"] if ledger else [])
               + (["case figures: " + ", ".join(path for path, _, _ in figures)] if figures else []))
-    tmp = target + ".tmp"
     # The panels' titles in the PNG's text (what a reader or a test can find without looking).
-    try:
-        fig.savefig(tmp, dpi=100, format="png", metadata={"Description": "panels: " + "; ".join(titles)})
-        os.replace(tmp, target)
-    except OSError as e:  # a full disk: one line, not a traceback (kiln plot exits 4 on it)
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        print(f"error: cannot write {tmp}: {e.strerror or e}", file=sys.stderr)
-        return OUTPUT_FAILED
-    except BaseException:
-        if os.path.exists(tmp):
-            os.remove(tmp)
-        raise
-    return 0
-
-
-OUTPUT_FAILED = 4  # kiln's exit code of an output that could not be written (src/base/error.h)
+    return kiln_figure.save(fig, target, dpi=100, metadata={"Description": "panels: " + "; ".join(titles)})
 
 
 def main(directory, keys):
     summary_path = os.path.join(directory, "summary.json")
     if not os.path.exists(summary_path):
         print(f"error: {summary_path} not found: give the output directory of a run", file=sys.stderr)
-        return 2
+        return kiln_figure.BAD_INPUT
     with open(summary_path) as f:
         summary = json.load(f)
     described = {key["path"]: key for key in keys}
@@ -231,9 +213,7 @@ def main(directory, keys):
 
 
 if __name__ == "__main__":
-    if len(sys.argv) == 4 and sys.argv[2] == "--keys":
-        sys.exit(main(sys.argv[1], json.loads(sys.argv[3])))
-    if len(sys.argv) != 2:
-        print("usage: plot_case.py DIR [--keys JSON]", file=sys.stderr)
-        sys.exit(2)
-    sys.exit(main(sys.argv[1], []))
+    if not (len(sys.argv) == 2 or (len(sys.argv) == 4 and sys.argv[2] == "--keys")):
+        kiln_figure.fail(kiln_figure.BAD_INPUT, "usage: plot_case.py DIR [--keys JSON]")
+    kiln_figure.run(lambda: main(sys.argv[1], json.loads(sys.argv[3]) if len(sys.argv) == 4 else []),
+                    os.path.join(sys.argv[1], "plots.png"))

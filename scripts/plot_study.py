@@ -1,34 +1,53 @@
-"""The plot of a kiln study, from its JSON: plot_study.py order|sweep|wp study.json study.png
+"""The plot of a kiln study, from its JSON: plot_study.py order|sweep|wp|recommend study.json study.png
 - order: log-log error against dt, one line per integrator, dashed nominal slopes;
 - sweep: each quantity against dt (log x), unstable steps marked, the estimated limit dashed;
-- wp: work-precision, error (x) against minimum wall time (y), log-log, one line per integrator."""
+- wp: work-precision, error (x) against minimum wall time (y), log-log, one line per integrator.
+What a figure leaves out (an integrator without a fitted order, levels whose error is 0, NaN or
+failed) is said in notes under it, which the PNG's Description also holds. Any value of the JSON
+may be null (a figure a run could not measure): none is formatted without a look."""
 import json
 import math
 import os
 import sys
 
-import matplotlib
+import kiln_figure  # how a figure is written and how the script ends, shared with plot_case.py
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
+
+def number(value, spec):
+    """`value` formatted by `spec`, or "none" for a null (NaN is written null in the JSON)."""
+    return "none" if value is None else format(value, spec)
 
 
 def plot_order(study, ax):
     if "ensemble" in study:
         return plot_order_ensemble(study, ax)
+    notes = []
     for entry in study["integrators"]:
-        points = [(d, e) for d, e in zip(entry.get("dt", []), entry.get("error", [])) if e and e > 0]
+        levels = list(zip(entry.get("dt") or [], entry.get("error") or []))
+        points = [(d, e) for d, e in levels if d and e is not None and e > 0]  # log axes: 0 and NaN (null) are off them
+        fitted = entry.get("fitted_order")
+        if fitted is None:
+            # An error of 0, NaN or a failed level leaves no order to fit: the verdict says why.
+            notes.append(f"{entry['name']}: no fitted order: {entry.get('verdict') or 'no verdict'}")
+        left_out = [d for d, e in levels if (d, e) not in points]
+        if left_out and points:
+            notes.append(f"{entry['name']}: not drawn at dt = " + ", ".join(number(d, ".3g") for d in left_out) +
+                         " (error 0, NaN or failed)")
         if not points:
+            notes.append(f"{entry['name']}: nothing to draw (every level's error is 0, NaN or failed)")
             continue
         xs, ys = zip(*points)
-        line, = ax.loglog(xs, ys, "o-", label=f"{entry['name']} (fitted {entry['fitted_order']:.2f})")
-        p = entry["nominal_order"]
-        ax.loglog(xs, [ys[-1] * (x / xs[-1]) ** p for x in xs], "--", color=line.get_color(), alpha=0.5, lw=1)
+        label = f"{entry['name']} " + (f"(fitted {fitted:.2f})" if fitted is not None else "(no fitted order)")
+        line, = ax.loglog(xs, ys, "o-", label=label)
+        p = entry.get("nominal_order")
+        if p is not None:
+            ax.loglog(xs, [ys[-1] * (x / xs[-1]) ** p for x in xs], "--", color=line.get_color(), alpha=0.5, lw=1)
     ax.set_xlabel("dt (s)")
     ax.set_ylabel(("difference of successive levels" if study["reference"] == "richardson" else "error")
                   + f" of {study['quantity']} (max abs)")
-    ax.set_title(f"{study['scene']}: {study['quantity']} at t = {study['t_end']:g} s, reference {study['reference']}"
-                 "\n(dashed: nominal slopes)", fontsize=10)
+    ax.set_title(f"{study['scene']}: {study['quantity']} at t = {number(study['t_end'], 'g')} s, reference "
+                 f"{study['reference']}\n(dashed: nominal slopes)", fontsize=10)
+    return notes
 
 
 def plot_order_ensemble(study, ax):
@@ -58,7 +77,9 @@ def plot_order_ensemble(study, ax):
     ax.set_yscale("log")
     ax.set_xlabel("dt (s)")
     ax.set_ylabel(f"|bias| of mean {study['quantity']} ({study['ensemble']['members']} members; v: undetected, bound)")
-    ax.set_title(f"{study['scene']}: {study['quantity']} at t = {study['t_end']:g} s, reference ensemble", fontsize=10)
+    ax.set_title(f"{study['scene']}: {study['quantity']} at t = {number(study['t_end'], 'g')} s, reference ensemble",
+                 fontsize=10)
+    return []
 
 
 def plot_sweep(study, ax):
@@ -79,6 +100,7 @@ def plot_sweep(study, ax):
     ax.set_xlabel("dt (s)")
     ax.set_ylabel("value (fields: difference from the smallest dt)")
     ax.set_title(f"{study['scene']} with {study['integrator']}: time-step sweep (red: unstable)", fontsize=10)
+    return []
 
 
 def plot_wp(study, ax):
@@ -116,6 +138,7 @@ def plot_wp(study, ax):
     ax.set_xlabel(label)
     ax.set_ylabel(f"wall time (s, minimum of {study['repeats']} runs)")
     ax.set_title(f"{study['scene']}: work-precision ({study['setting']} varied)", fontsize=10)
+    return []
 
 
 def plot_recommend(study, ax):
@@ -129,26 +152,40 @@ def plot_recommend(study, ax):
         ax.loglog(xs, ys, "o-", label=name)
     ax.axvline(study["tolerance"], color="black", ls="--", label="tolerance")
     r = study.get("recommendation")
-    if r:
+    if r and r.get("error") is not None and r.get("seconds_per_run"):
         ax.loglog([max(r["error"], 1e-300)], [r["seconds_per_run"]], "o", ms=14, mfc="none", color="red",
-                  label=f"recommended: {r['integrator']} at {r['dt']:.3g} s")
+                  label=f"recommended: {r['integrator']} at {number(r.get('dt'), '.3g')} s")
     ax.set_xlabel(f"error of {study['quantity']} (reference {study['reference']})")
     ax.set_ylabel("wall seconds per run")
     ax.set_title(f"{study['scene']}: kiln recommend", fontsize=10)
+    return []
+
+
+PLOTS = {"order": plot_order, "sweep": plot_sweep, "wp": plot_wp, "recommend": plot_recommend}
 
 
 def main(kind, source, target):
-    with open(source) as f:
-        study = json.load(f)
+    try:
+        with open(source) as f:
+            study = json.load(f)
+    except (OSError, ValueError) as e:
+        kiln_figure.fail(kiln_figure.BAD_INPUT, f"cannot read {source}: {e}")
+    plt = kiln_figure.pyplot(target)
     fig, ax = plt.subplots(figsize=(7, 5))
-    {"order": plot_order, "sweep": plot_sweep, "wp": plot_wp, "recommend": plot_recommend}[kind](study, ax)
+    notes = PLOTS[kind](study, ax) or []
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
-    fig.tight_layout()
-    tmp = target + ".tmp.png"
-    fig.savefig(tmp, dpi=110)
-    os.replace(tmp, target)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=8)
+    # What the axes leave out, under them.
+    below = 0.025 * len(notes) + (0.01 if notes else 0)
+    for k, note in enumerate(notes):
+        fig.text(0.01, 0.01 + 0.025 * (len(notes) - 1 - k), note if len(note) <= 150 else note[:147] + "...",
+                 fontsize=7, va="bottom")
+    fig.tight_layout(rect=(0, below, 1, 1))
+    return kiln_figure.save(fig, target, dpi=110, metadata={"Description": "notes: " + "; ".join(notes)})
 
 
 if __name__ == "__main__":
-    main(sys.argv[1], sys.argv[2], sys.argv[3])
+    if len(sys.argv) != 4 or sys.argv[1] not in PLOTS:
+        kiln_figure.fail(kiln_figure.BAD_INPUT, "usage: plot_study.py order|sweep|wp|recommend study.json study.png")
+    kiln_figure.run(lambda: main(*sys.argv[1:]), sys.argv[3])

@@ -6,7 +6,7 @@
 #include "src/app/command.h"
 #include "src/base/atomic_write.h"
 #include "src/base/error.h"
-#include "src/base/subprocess.h"
+#include "src/base/figure_script.h"
 #include "src/scene/observer_catalogue.h"
 
 namespace kiln {
@@ -51,18 +51,17 @@ class PlotCommand final : public Command {
       throw InputError("kiln plot: " + summary + " not found: give the output directory of a run (kiln run "
                        "SCENE --out DIR)");
     require_writable_directory(dir_, "kiln plot");  // a read-only run printed a Python traceback
-    const ProgramResult r = run_program(
-        {"/usr/bin/python3", std::string(KILN_SCRIPTS_DIR) + "/plot_case.py", dir_, "--keys", catalogue_keys()});
-    std::fprintf(stderr, "%s", r.errors.c_str());  // the script's warnings and errors
-    // 4: the script could not write plots.png (a full disk) and said so in one line; before, its
-    // traceback was printed, then a hint to install matplotlib.
-    if (r.status == exit_output_failed) return exit_output_failed;
-    if (r.status != 0) {
-      std::fprintf(stderr, "error: %s/plots.png not written (it needs Debian's /usr/bin/python3 with matplotlib and "
-                           "h5py: apt-get install python3-matplotlib python3-h5py)\n", dir_.c_str());
-      return exit_output_failed;
+    const std::string figure = (std::filesystem::path(dir_) / "plots.png").string();
+    // A figure not drawn says why in one line, with its exit code (4: no room, no permission or
+    // no matplotlib; 6: a defect of the script's): before, a full disk printed the script's
+    // traceback, then a hint to install matplotlib.
+    try {
+      draw_figure("plot_case.py", {dir_, "--keys", catalogue_keys()}, figure);
+    } catch (const FigureError& e) {
+      std::fprintf(stderr, "error: %s\n", e.what());
+      return e.status;
     }
-    if (!quiet_) std::printf("plots: %s/plots.png\n", dir_.c_str());
+    if (!quiet_) std::printf("plots: %s\n", figure.c_str());
     return exit_success;
   }
 

@@ -4,6 +4,7 @@
 #include "src/app/command_options.h"
 #include "src/base/atomic_write.h"
 #include "src/base/error.h"
+#include "src/base/figure_script.h"
 #include "src/base/progress.h"
 #include "src/scene/scene_yaml.h"
 #include "src/studies/study_order.h"
@@ -59,7 +60,11 @@ class StudyCommand final : public Command {
     } else {
       require_writable_directory(o_.out_dir, "--out");
     }
-    study_(o_);
+    try {
+      study_(o_);
+    } catch (const FigureError& e) {  // the JSON and CSV are written, the plot not: one line, its exit code
+      return finish_ranks(e.status, std::string("error: ") + e.what());
+    }
     return finish_ranks(exit_success, "");
   }
 

@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "src/base/atomic_write.h"
-#include "src/base/subprocess.h"
+#include "src/base/figure_script.h"
 #include "src/studies/study_ranks.h"
 
 namespace kiln {
@@ -42,11 +42,14 @@ void StudyReport::publish(const std::string& heading, const std::string& footer,
   const std::string base = out_dir + "/" + kind_;
   write_file_atomically(base + ".json", json_.dump(2) + "\n");
   write_file_atomically(base + ".csv", csv_);
-  const ProgramResult plot = run_program(
-      {"/usr/bin/python3", std::string(KILN_SCRIPTS_DIR) + "/plot_study.py", kind_, base + ".json", base + ".png"});
-  if (plot.status != 0)
-    std::fprintf(stderr, "%swarning: %s.png not written (needs /usr/bin/python3 with matplotlib: apt-get install "
-                         "python3-matplotlib)\n", plot.errors.c_str(), kind_.c_str());
+  // A plot not drawn is an output not written (exit 4; 6 for a defect of the script's), said in
+  // one line that names what was written: before, a full disk or a null fitted order printed a
+  // Python traceback and "needs matplotlib", and the study exited 0.
+  try {
+    draw_figure("plot_study.py", {kind_, base + ".json", base + ".png"}, base + ".png");
+  } catch (const FigureError& e) {
+    throw FigureError(e.status, std::string(e.what()) + " (" + kind_ + ".json and " + kind_ + ".csv are written)");
+  }
 }
 
 nlohmann::json study_header(const Scene& scene, const std::string& quantity, const std::string& reference, double t_end) {

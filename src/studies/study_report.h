@@ -21,7 +21,8 @@ class StudyReport {
   // Text of the printed table, printf-style.
   void table(const char* format, ...) __attribute__((format(printf, 2, 3)));
   // Prints heading, the table and footer unless quiet; then writes the files into out_dir unless
-  // it is empty (a rank other than 0 under mpirun, a test).
+  // it is empty (a rank other than 0 under mpirun, a test). A plot not drawn is a FigureError
+  // (src/base/figure_script.h), thrown once the JSON and the CSV are written.
   void publish(const std::string& heading, const std::string& footer, const std::string& out_dir, bool quiet) const;
 
  private:
