@@ -3,6 +3,8 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <charconv>
+#include <climits>
 #include <cfloat>
 #include <cmath>
 
@@ -325,13 +327,25 @@ long long SceneNode::integer(long long min_value, long long max_value) const {
   const std::string range = "a whole number in [" + std::to_string(min_value) + ", " + std::to_string(max_value) + "]";
   if (!node_.IsScalar()) fail("expected " + range);
   not_text(range.c_str(), ScalarKind::whole);
-  long long v = 0;
-  try {
-    v = node_.as<long long>();
-  } catch (const YAML::Exception&) {
-    fail("expected " + range + ", got '" + text() + "'");
+  // YAML 1.2's core integers, read here: decimal (leading zeros included: 0100 is 100), 0o octal,
+  // 0x hexadecimal. yaml-cpp's as<long long> read 0100 as octal 64, without a word, and refused 0090.
+  const std::string& s = node_.Scalar();
+  const size_t sign = !s.empty() && (s[0] == '-' || s[0] == '+') ? 1 : 0;
+  int base = 10;
+  size_t digits = sign;
+  if (s.compare(sign, 2, "0o") == 0 || s.compare(sign, 2, "0x") == 0) {
+    base = s[sign + 1] == 'o' ? 8 : 16;
+    digits += 2;
   }
-  if (v < min_value || v > max_value) fail("expected " + range + ", got " + node_.Scalar());
+  unsigned long long magnitude = 0;
+  const char *first = s.data() + digits, *last = s.data() + s.size();
+  const auto [end, error] = std::from_chars(first, last, magnitude, base);
+  if (first == last || end != last || error == std::errc::invalid_argument)
+    fail("expected " + range + ", got '" + text() + "'");
+  const unsigned long long limit = static_cast<unsigned long long>(LLONG_MAX) + (sign && s[0] == '-' ? 1 : 0);
+  if (error == std::errc::result_out_of_range || magnitude > limit) fail("expected " + range + ", got " + s);
+  const long long v = sign && s[0] == '-' ? static_cast<long long>(0ULL - magnitude) : static_cast<long long>(magnitude);
+  if (v < min_value || v > max_value) fail("expected " + range + ", got " + s);
   return v;
 }
 

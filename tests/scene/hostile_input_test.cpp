@@ -660,3 +660,17 @@ TEST_CASE("material constants the laws multiply are refused above their physical
   CHECK_THROWS_WITH(load_scene(regression.string()),
                     Catch::Contains("key 'materials.steel.conductivity'") && Catch::Contains("overflowed"));
 }
+
+TEST_CASE("whole numbers are read as YAML 1.2 reads them: zero-padded decimal, 0o octal, 0x hexadecimal", "[hostile]") {
+  // Issue 28's review: yaml-cpp read `count: 0100` as octal 64, with no word, and refused 0090.
+  const std::string heap = testing::case_path("t3_heap.yaml");
+  CHECK(load_scene(heap, {"particles.0.fill.count=0100"}).n_particles() == 100);
+  CHECK(load_scene(heap, {"particles.0.fill.count=0090"}).n_particles() == 90);
+  CHECK(load_scene(heap, {"particles.0.fill.count=0o17"}).n_particles() == 15);
+  CHECK(load_scene(heap, {"particles.0.fill.count=0x10"}).n_particles() == 16);
+  for (const char* bad : {"particles.0.fill.count=1e3", "particles.0.fill.count=12abc",
+                          "particles.0.fill.count=9223372036854775808", "particles.0.fill.count=0x"}) {
+    INFO(bad);
+    CHECK_THROWS_WITH(load_scene(heap, {bad}), Catch::Contains("expected a whole number"));
+  }
+}
