@@ -71,10 +71,37 @@ void each_dataset(hid_t file, const char* group_name, const std::string& path, F
   for (hsize_t k = 0; k < info.nlinks; ++k) {
     char name[1024];
     H5Lget_name_by_idx(group, ".", H5_INDEX_NAME, H5_ITER_INC, k, name, sizeof name, H5P_DEFAULT);
+    const std::string where = path + ": the checkpoint's '" + group_name + "/" + std::string(name).substr(0, 100) + "'";
+    // What kiln never writes is bad input (exit 2), not an output failure: a group where a dataset
+    // belongs, a dataset of another kind (variable-length strings), or one that declares more
+    // values than it stores (a chunked 2^40-element dataset of 117 kB ended in bad_alloc).
+    const hid_t object = H5Oopen(group, name, H5P_DEFAULT);
+    const bool dataset = object >= 0 && H5Iget_type(object) == H5I_DATASET;
+    if (object >= 0) H5Oclose(object);
+    H5Eclear2(H5E_DEFAULT);
+    if (!dataset) {
+      H5Gclose(group);
+      throw InputError(where + " is not a dataset");
+    }
     const hid_t ds = h5_id(H5Dopen2(group, name, H5P_DEFAULT), "read the checkpoint", path);
+    const hid_t type = H5Dget_type(ds);
+    const H5T_class_t kind = H5Tget_class(type);
+    const size_t bytes = std::strcmp(group_name, "text") == 0 ? 1 : 8;
+    const bool fits = (std::strcmp(group_name, "real") == 0 ? kind == H5T_FLOAT : kind == H5T_INTEGER) &&
+                      H5Tget_size(type) == bytes && !H5Tis_variable_str(type);
+    H5Tclose(type);
     const hid_t space = H5Dget_space(ds);
     const hssize_t n = H5Sget_simple_extent_npoints(space);
     H5Sclose(space);
+    const hsize_t stored = H5Dget_storage_size(ds);
+    if (!fits || n < 0 || static_cast<hsize_t>(n) * bytes > stored) {
+      H5Dclose(ds);
+      H5Gclose(group);
+      H5Eclear2(H5E_DEFAULT);
+      throw InputError(where + (fits ? " declares " + std::to_string(n) + " values and stores " +
+                                           std::to_string(stored) + " bytes"
+                                     : " is not of the kind kiln writes there"));
+    }
     read(std::string(name), ds, static_cast<size_t>(n));
     H5Dclose(ds);
   }

@@ -3,6 +3,7 @@
 // checkpoint fuzzer's corpus and findings replayed, and edit scripts drawn at random
 // (tests/fuzz/check_checkpoint.h). Under the sanitizer build a read past an array fails it.
 #include <catch2/catch.hpp>
+#include <hdf5.h>
 
 #include <filesystem>
 #include <fstream>
@@ -128,4 +129,32 @@ TEST_CASE("a checkpoint that places a particle beyond 1e6 m from the origin is r
   state[0] *= 1e10;
   s.put("state", state);
   CHECK_THROWS_WITH(resume_for_a_millisecond(s, "far.h5"), Catch::Contains("'state'") && Catch::Contains("beyond 1e6 m"));
+}
+
+// Issue 28's review: what kiln never writes in a checkpoint was an output failure (exit 4: a group
+// where a dataset belongs, a variable-length string) or ran out of memory (a chunked dataset that
+// declares 2^40 values in 117 kB: bad_alloc, exit 6). Each is bad input now, named, before a read.
+TEST_CASE("a checkpoint holding a group, another kind of dataset or more values than it stores is refused by name",
+          "[checkpoint][hostile]") {
+  using namespace kiln::fuzz::checkpoint_detail;
+  auto edited = [&](const std::string& file, auto&& edit) {
+    const std::string path = (work_dir() / file).string();
+    base(cases_dir).write(path);
+    const hid_t h5 = H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+    REQUIRE(h5 >= 0);
+    edit(h5);
+    H5Fclose(h5);
+    return path;
+  };
+  const std::string group = edited("group.h5", [](hid_t h5) { H5Gclose(H5Gcreate2(h5, "real/aaa", H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT)); });
+  CHECK_THROWS_WITH(kiln::Snapshot::read(group), Catch::Contains("'real/aaa' is not a dataset"));
+  const std::string sparse = edited("sparse.h5", [](hid_t h5) {
+    const hsize_t extent = hsize_t{1} << 40, chunk = 1024;
+    const hid_t space = H5Screate_simple(1, &extent, nullptr), plist = H5Pcreate(H5P_DATASET_CREATE);
+    H5Pset_chunk(plist, 1, &chunk);
+    H5Dclose(H5Dcreate2(h5, "real/aab", H5T_NATIVE_DOUBLE, space, H5P_DEFAULT, plist, H5P_DEFAULT));
+    H5Pclose(plist);
+    H5Sclose(space);
+  });
+  CHECK_THROWS_WITH(kiln::Snapshot::read(sparse), Catch::Contains("'real/aab' declares 1099511627776 values"));
 }
