@@ -6,6 +6,7 @@
 #include "src/base/error.h"
 #include "src/base/stop_signal.h"
 #include "src/base/subprocess.h"
+#include "src/base/text_format.h"
 
 namespace kiln {
 
@@ -15,7 +16,7 @@ int make_movie(const std::string& dir, const Scene& scene, MovieOptions options)
   try {
     movie = write_movie(dir, scene, options);
   } catch (const OutputError& e) {
-    std::fprintf(stderr, "error: %s (no movie was published)\n", e.what());
+    std::fprintf(stderr, "error: %s (no movie was published)\n", bounded(e.what()).c_str());
     return exit_output_failed;
   }
   if (movie.stopped_by != 0) {

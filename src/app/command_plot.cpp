@@ -7,6 +7,8 @@
 #include "src/base/atomic_write.h"
 #include "src/base/error.h"
 #include "src/base/figure_script.h"
+#include "src/base/text_format.h"
+#include "src/output/run_outputs.h"
 #include "src/scene/observer_catalogue.h"
 
 namespace kiln {
@@ -46,10 +48,7 @@ class PlotCommand final : public Command {
   }
 
   int run() override {
-    const std::string summary = (std::filesystem::path(dir_) / "summary.json").string();
-    if (!std::filesystem::exists(summary))
-      throw InputError("kiln plot: " + summary + " not found: give the output directory of a run (kiln run "
-                       "SCENE --out DIR)");
+    RunOutputs::require_published(dir_, "summary.json", "plot it");
     require_writable_directory(dir_, "kiln plot");  // a read-only run printed a Python traceback
     const std::string figure = (std::filesystem::path(dir_) / "plots.png").string();
     // A figure not drawn says why in one line, with its exit code (4: no room, no permission or
@@ -58,7 +57,7 @@ class PlotCommand final : public Command {
     try {
       draw_figure("plot_case.py", {dir_, "--keys", catalogue_keys()}, figure);
     } catch (const FigureError& e) {
-      std::fprintf(stderr, "error: %s\n", e.what());
+      std::fprintf(stderr, "error: %s\n", bounded(e.what()).c_str());
       return e.status;
     }
     if (!quiet_) std::printf("plots: %s\n", figure.c_str());

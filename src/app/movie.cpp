@@ -151,20 +151,7 @@ Movie write_movie(const std::string& dir_name, const Scene& scene, const MovieOp
   check_movie_field(scene, options.field, "--field");
   const fs::path dir(dir_name), tmp = dir / "movie.tmp";
   const std::string result = (dir / "result.h5").string();
-  if (!fs::exists(result)) {
-    if (RunOutputs::running_in(dir.string()))
-      throw InputError(result + " is missing: the run in " + dir.string() +
-                       " is still running (it holds .kiln.lock); draw it when it has ended");
-    // A run killed outright leaves its finished frames in result.h5.tmp and its last checkpoint;
-    // one whose output failed (a full disk), in result.h5.unfinished.
-    for (const char* left : {".tmp", ".unfinished"})
-      if (fs::exists(result + left))
-        throw InputError(result + " is missing: the run in " + dir.string() + " did not finish (" +
-                         (std::string(left) == ".tmp" ? "it was killed" : "its output failed") +
-                         "; its finished frames are in result.h5" + left + "); finish it with kiln run --restart " +
-                         (dir / "checkpoint.h5").string() + ", then draw it");
-    throw InputError(result + " is missing: give the directory of a run (kiln run --out DIR)");
-  }
+  RunOutputs::require_published(dir_name, "result.h5", "draw it");
   FramePictures frames(result, scene, options.field);
   if (frames.frames() == 0) throw InputError(result + " holds no frames");
   Movie movie;

@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "src/base/error.h"
@@ -35,10 +36,33 @@ class Snapshot {
   double real(const std::string& key) const { return one(reals(key), key); }
   const std::vector<long long>& integers(const std::string& key) const;
   long long integer(const std::string& key) const { return one(integers(key), key); }
+  // One whole number that a T holds, in [lo, hi] (a frame count is an int and not negative): a
+  // stored int64 is narrowed only after this check, so a damaged count (1e15 frames) is refused by
+  // name instead of wrapping to a negative one.
+  template <class T>
+  T integer_as(const std::string& key, T lo = std::numeric_limits<T>::min(), T hi = std::numeric_limits<T>::max()) const {
+    return narrowed<T>(integer(key), key, lo, hi);
+  }
+  // A value stored under `key` as the T a reader keeps it in, checked as above.
+  template <class T>
+  T narrowed(long long v, const std::string& key, T lo = std::numeric_limits<T>::min(),
+             T hi = std::numeric_limits<T>::max()) const {
+    bool held;
+    if constexpr (std::is_same_v<T, bool>)
+      held = v == 0 || v == 1;
+    else
+      held = std::in_range<T>(v) && static_cast<T>(v) >= lo && static_cast<T>(v) <= hi;
+    if (!held)
+      throw layout_error(source_, "holds " + std::to_string(v) + " in '" + key + "' where a whole number in [" +
+                                      std::to_string(lo) + ", " + std::to_string(hi) + "] belongs");
+    return static_cast<T>(v);
+  }
   template <class T>
   void get_integers(const std::string& key, std::vector<T>& out) const {
     const std::vector<long long>& v = integers(key);
-    out.assign(v.begin(), v.end());
+    out.resize(v.size());
+    for (size_t i = 0; i < v.size(); ++i)
+      out[i] = narrowed<T>(v[i], key);
   }
   const std::string& text(const std::string& key) const;
   // The keys of the real arrays, in order.
@@ -170,7 +194,7 @@ class SnapshotFields {
     if (out_) return out_->put_integers(prefix_ + key, std::vector<long long>{static_cast<long long>(v)...});
     const std::vector<long long>& got = sized(in_->integers(prefix_ + key), sizeof...(T), key);
     size_t k = 0;
-    ((v = static_cast<T>(got[k++])), ...);
+    ((v = in_->narrowed<T>(got[k++], prefix_ + key)), ...);
   }
 
  private:

@@ -22,4 +22,23 @@ std::string format(const char* format, ...) {
   return s;
 }
 
+std::string bounded(const std::string& message, size_t longest_word, size_t longest) {
+  const size_t end_kept = longest_word / 3;
+  std::string out;
+  size_t i = 0;
+  while (i < message.size()) {
+    const bool space = message[i] == ' ' || message[i] == '\n';
+    size_t j = i;
+    while (j < message.size() && (message[j] == ' ' || message[j] == '\n') == space) ++j;
+    if (!space && j - i > longest_word)
+      out += message.substr(i, end_kept) + "[... " + std::to_string(j - i - 2 * end_kept) + " characters ...]" +
+             message.substr(j - end_kept, end_kept);
+    else
+      out.append(message, i, j - i);
+    i = j;
+  }
+  if (out.size() > longest) out = out.substr(0, longest) + "[... " + std::to_string(out.size() - longest) + " more characters]";
+  return out;
+}
+
 }  // namespace kiln

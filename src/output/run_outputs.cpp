@@ -95,6 +95,24 @@ bool RunOutputs::running_in(const std::string& dir) {
   return held;
 }
 
+void RunOutputs::require_published(const std::string& dir, const std::string& name, const std::string& then) {
+  const std::string file = (fs::path(dir) / name).string();
+  if (fs::exists(file)) return;
+  if (running_in(dir))
+    throw InputError(file + " is missing: the run in " + dir + " is still running (it holds .kiln.lock); " + then +
+                     " when it has ended");
+  // A run killed outright leaves its finished frames in result.h5.tmp and its last checkpoint;
+  // one whose output failed (a full disk), in result.h5.unfinished.
+  const std::string result = (fs::path(dir) / "result.h5").string();
+  for (const char* left : {".tmp", ".unfinished"})
+    if (fs::exists(result + left))
+      throw InputError(file + " is missing: the run in " + dir + " did not finish (" +
+                       (std::string(left) == ".tmp" ? "it was killed" : "its output failed") +
+                       "; its finished frames are in result.h5" + left + "); finish it with kiln run --restart " +
+                       (fs::path(dir) / "checkpoint.h5").string() + ", then " + then);
+  throw InputError(file + " is missing: give the directory of a run (kiln run SCENE --out DIR)");
+}
+
 RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::string& run_id)
     : dir_(dir), sys_(sys), layout_(result_layout(sys)), pieces_(pieces_of_segments(sys)), run_id_(run_id) {
   lock_directory();
@@ -442,7 +460,7 @@ PictureInput RunOutputs::picture(double t, const double* y, const std::string& t
 void RunOutputs::checkpoint(const Snapshot& s) {
   s.write(path("checkpoint.h5"));
   checkpointed_ = true;
-  checkpoint_frames_ = static_cast<int>(s.integer("frames"));
+  checkpoint_frames_ = s.integer_as<int>("frames", 0);
   checkpoint_time_ = s.real("time");
 }
 

@@ -83,6 +83,10 @@ class RunOutputs {
   // Whether a run holds DIR's lock now (it is writing there): a missing result.h5 then means
   // "still running", not "killed".
   static bool running_in(const std::string& dir);
+  // For the commands that read a finished run (movie, plot): throws InputError when DIR lacks
+  // `name` (result.h5, summary.json), saying why: the run is still running, it was killed or its
+  // output failed (with how to finish it), or DIR holds no run.
+  static void require_published(const std::string& dir, const std::string& name, const std::string& then);
 
  private:
   std::string path(const std::string& name) const;

@@ -580,6 +580,7 @@ void SceneRun::parts(SnapshotFields& f) {
 
 void SceneRun::resume(const Snapshot& s) {
   const double t = s.real("time");
+  const int frames = s.integer_as<int>("frames", 0);  // 1e15 frames was said as "-1530494976 frames"
   const std::vector<double>& state_vector = s.reals("state");
   if (state_vector.size() != y_.size())
     throw InputError("the checkpoint's state has " + std::to_string(state_vector.size()) + " components, this scene's " +
@@ -607,7 +608,7 @@ void SceneRun::resume(const Snapshot& s) {
   if (published) stopped_at_rest_ = false;
   parts(fields);
   if (!options_.out_dir.empty())
-    files_ = std::make_unique<RunOutputs>(options_.out_dir, system_, run_id_, static_cast<int>(s.integer("frames")), s);
+    files_ = std::make_unique<RunOutputs>(options_.out_dir, system_, run_id_, frames, s);
   if (stage_ == mechanics_stage) {
     integrator_->resume(system_, y_.data(), scene_.dt, s, "integrator.");
   } else {

@@ -108,12 +108,21 @@ void read_stepping(const SceneNode& root, Scene& scene) {
   scene.dt_at = root["dt"].location();
   if (scene.dt > scene.t_end) root["dt"].fail("dt is longer than t_end");
   scene.output_interval = root.has("output_interval") ? root["output_interval"].positive() : scene.t_end / 100;
-  // 1e-300 s was accepted: a frame at every step, 196 MB for 0.02 s of T3.
-  if (scene.t_end / scene.output_interval > max_frames)
-    root["output_interval"].fail(format("t_end / output_interval = %g s / %g s = %.3g frames, more than the "
-                                                "limit of %.0e; give at least %g s",
-                                                scene.t_end, scene.output_interval, scene.t_end / scene.output_interval,
-                                                max_frames, scene.t_end / max_frames));
+  // 1e-300 s was accepted: a frame at every step, 196 MB for 0.02 s of T3. The count is blamed on
+  // t_end when the command line gave it: `--t-end 1e300` over a scene's interval (or a resumed
+  // run's) was blamed on the interval.
+  if (scene.t_end / scene.output_interval > max_frames) {
+    const SceneNode interval = root["output_interval"];  // given: t_end / 100 frames cannot exceed the limit
+    const std::string count = format("t_end / output_interval = %g s / %g s = %.3g frames, more than the limit of %.0e",
+                                     scene.t_end, scene.output_interval, scene.t_end / scene.output_interval, max_frames);
+    // A resumed run's interval is the checkpoint's, given as --set too: there only t_end can change.
+    if (scene.t_end_at.file == "--set")
+      root["t_end"].fail(count + format("; give at most %g s", scene.output_interval * max_frames) +
+                         (interval.location().file == "--set"
+                              ? std::string()
+                              : ", or a longer output_interval (" + describe(interval.location()) + ")"));
+    interval.fail(count + format("; give at least %g s", scene.t_end / max_frames));
+  }
 }
 
 // The run's own checks and its early stop.

@@ -260,9 +260,11 @@ std::vector<std::pair<std::string, SceneNode>> SceneNode::entries() const {
 void SceneNode::not_text(const char* expected, ScalarKind kind) const {
   const std::string& tag = node_.Tag();
   if (tag == "!" || tag == "tag:yaml.org,2002:str")
+    // yaml-cpp gives a quoted scalar and a block one (| or >) the same tag and no style: the
+    // advice names both.
     fail(std::string("expected ") + expected + ", got the text '" + node_.Scalar().substr(0, 60) + "' (" +
-         (tag == "!" ? "quoted" : "tagged !!str") + ": YAML reads it as text; remove the " +
-         (tag == "!" ? "quotes" : "tag") + ")");
+         (tag == "!" ? "quoted, or a | or > block" : "tagged !!str") + ": YAML reads it as text; " +
+         (tag == "!" ? "write it plain, without quotes or block indicator" : "remove the tag") + ")");
   const auto refuse = [&](const std::string& tagged, const std::string& reads_as) {
     fail(std::string("expected ") + expected + ", got '" + node_.Scalar().substr(0, 60) + "' tagged " + tagged +
          ": YAML reads it as " + reads_as + "; remove the tag");

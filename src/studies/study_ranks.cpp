@@ -10,6 +10,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include "src/base/text_format.h"
+
 namespace kiln {
 
 namespace {
@@ -99,7 +101,8 @@ std::vector<std::string> gather_on_every_rank(const std::string& mine) {
   return blocks;
 }
 
-int finish_ranks(int status, const std::string& error) {
+int finish_ranks(int status, const std::string& message) {
+  const std::string error = bounded(message);
   if (!started) {
     if (!error.empty()) std::fprintf(stderr, "%s\n", error.c_str());
     return status;

@@ -63,3 +63,17 @@ TEST_CASE("a first word that is no command is named, with the commands nearest i
   CHECK(has(out.output, "'chek' is not a kiln command; the commands are 'check', "));
   CHECK_FALSE(has(out.output, "A subcommand is required"));
 }
+
+TEST_CASE("an error quoting a 100 kB argument is a line of bounded length that keeps the argument's ends", "[errors]") {
+  const auto dir = kiln::testing::fresh_dir("command_line_long");
+  std::filesystem::create_directories(dir);
+  // Issue 28's review: `--out` of 100,000 characters was quoted whole, a 100 kB message.
+  const std::string out_dir = "a" + std::string(99998, 'd') + "z";
+  const auto out = kiln::testing::run_kiln_command(
+      "run " + kiln::testing::case_path("t1_free_fall.yaml") + " --quiet --out " + out_dir, dir / "log");
+  CHECK(out.status == 4);
+  CHECK(out.output.size() < 1000);
+  CHECK(has(out.output, "cannot create the output directory add"));
+  CHECK(has(out.output, "dd[... 99841 characters ...]dd"));  // the word ends with the colon after it
+  CHECK(has(out.output, "dz: File name too long"));
+}

@@ -61,6 +61,34 @@ TEST_CASE("a packed field of the wrong length is refused by its key, not read pa
   CHECK_THROWS_WITH(p.state(in), Catch::Contains("state layout differs") && Catch::Contains("rerun the scene from the start"));
 }
 
+// Issue 28's review: a checkpoint's frame count of 1e15 was narrowed to an int and said as
+// "-1530494976 frames". A stored int64 is narrowed only to a type that holds it.
+TEST_CASE("a stored whole number the reader's type cannot hold is refused by its key, not wrapped", "[snapshot]") {
+  const auto read_part = [](long long count, long long flag, long long pair) {
+    Snapshot s;
+    s.put("part.times", std::vector<double>{0, 0});
+    s.put_integers("part.counts", std::vector<long long>{count, flag});
+    s.put("part.rates", std::vector<double>{});
+    s.put_integers("part.pairs", std::vector<long long>{pair});
+    s.put_text("part.note", "");
+    Part p;
+    SnapshotFields in(static_cast<const Snapshot&>(s), "part.");
+    p.state(in);
+    return p;
+  };
+  CHECK(read_part(1LL << 40, 1, -7).pairs == std::vector<int>{-7});
+  CHECK_THROWS_WITH(read_part(0, 1, 1LL << 40), Catch::Contains("holds 1099511627776 in 'part.pairs'"));
+  CHECK_THROWS_WITH(read_part(0, 2, 0), Catch::Contains("holds 2 in 'part.counts'"));
+  Snapshot s;
+  s.put_integer("frames", 1000000000000000);
+  CHECK_THROWS_WITH(s.integer_as<int>("frames", 0),
+                    Catch::Contains("holds 1000000000000000 in 'frames' where a whole number in [0, 2147483647]"));
+  s.put_integer("frames", -1);
+  CHECK_THROWS_WITH(s.integer_as<int>("frames", 0), Catch::Contains("holds -1 in 'frames'"));
+  s.put_integer("frames", 11);
+  CHECK(s.integer_as<int>("frames", 0) == 11);
+}
+
 TEST_CASE("a missing field is refused by its key", "[snapshot]") {
   Snapshot s;
   double v = 0;

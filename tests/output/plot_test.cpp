@@ -2,6 +2,9 @@
 // found generically, so a case that reports a new history appears without a change to the script.
 // The script lists its panels' titles in the PNG's text (its Description), which these tests read.
 #include <cairo.h>
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstdlib>
@@ -92,13 +95,26 @@ TEST_CASE("kiln plot labels the case quantities by the observer catalogue and li
   fs::remove_all(dir);
 }
 
-TEST_CASE("kiln plot on a directory without summary.json fails naming it and writes nothing", "[plot]") {
+// Issue 28's review: on a run still writing, kiln plot said "summary.json not found"; it shares
+// kiln movie's reading of a directory now (RunOutputs::require_published).
+TEST_CASE("kiln plot without summary.json says whether the run is missing, killed or still running, and writes nothing",
+          "[plot]") {
   const fs::path dir = testing::fresh_dir("plot_empty");
   fs::create_directories(dir);
-  const auto [status, output] = plot(dir);
-  CHECK(status == 2);
-  CHECK_THAT(output, Catch::Contains((dir / "summary.json").string() + " not found"));
+  auto refused_with = [&](const std::string& why) {
+    const auto [status, output] = plot(dir);
+    CHECK(status == 2);
+    CHECK_THAT(output, Catch::Contains((dir / "summary.json").string() + " is missing") && Catch::Contains(why));
+  };
+  refused_with("give the directory of a run");
   CHECK(fs::is_empty(dir));
+  std::ofstream(dir / "result.h5.tmp") << "frames so far";
+  refused_with("it was killed");
+  const int lock = ::open((dir / ".kiln.lock").c_str(), O_CREAT | O_RDWR, 0644);
+  REQUIRE(::flock(lock, LOCK_EX | LOCK_NB) == 0);  // as a run holds it
+  refused_with("is still running");
+  ::close(lock);
+  CHECK_FALSE(fs::exists(dir / "plots.png"));
   fs::remove_all(dir);
 }
 

@@ -118,6 +118,29 @@ TEST_CASE("a checkpoint whose observer series differ in length or whose counts a
   }
 }
 
+// Issue 28's review: a frame count of 1e15 was resumed as "-1530494976 frames"; it names the
+// dataset now, with or without an output directory.
+TEST_CASE("a checkpoint whose frame count is negative or beyond an int is refused, naming it", "[checkpoint][hostile]") {
+  using namespace kiln::fuzz::checkpoint_detail;
+  for (const long long frames : {1000000000000000LL, -1LL}) {
+    kiln::Snapshot s = base(cases_dir);
+    s.put_integer("frames", frames);
+    CHECK_THROWS_WITH(resume_for_a_millisecond(s, "frames.h5"),
+                      Catch::Contains("'frames' where a whole number in [0, 2147483647] belongs"));
+  }
+}
+
+// Issue 28's review: `--restart --t-end 1e300` was refused as "--set: key 'output_interval'", a key
+// a resumed run cannot change (the checkpoint's interval is given as an override).
+TEST_CASE("a resumed run whose --t-end makes more than a million frames is refused naming t_end", "[checkpoint][hostile]") {
+  using namespace kiln::fuzz::checkpoint_detail;
+  const kiln::Snapshot s = base(cases_dir);
+  kiln::SceneRecord source;
+  CHECK_THROWS_WITH(kiln::scene_of_checkpoint(s, {"t_end=1e300"}, source),
+                    Catch::Contains("key 't_end'") && Catch::Contains("give at most") &&
+                        !Catch::Contains("output_interval ("));
+}
+
 // Issue 28's review: a coordinate times 1e10 with fresh checksums (the adversary checksums cannot
 // see) resumed, and the heap observer crashed at the run's end. No scene places a particle beyond
 // 1e6 m; nor does a checkpoint now.

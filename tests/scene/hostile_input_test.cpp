@@ -484,6 +484,9 @@ TEST_CASE("YAML read as YAML: quoted or !!str numbers, unknown tags and a second
             "key 'materials.copper.density': the tag '!custom' is not read"));
   CHECK(has(error_of(replaced(scene, "density: 8900", "density: !!binary aGVsbG8=")), "tag:yaml.org,2002:binary"));
   CHECK(has(error_of(replaced(scene, "t_end: 0.01", "t_end: '0.01'")), "key 't_end'"));
+  // A block scalar is text too, and was told to "remove the quotes" it does not have.
+  CHECK(has(error_of(replaced(scene, "t_end: 0.01", "t_end: |\n  0.01")),
+            "(quoted, or a | or > block: YAML reads it as text; write it plain, without quotes or block indicator)"));
   CHECK(has(error_of(scene + "---\nname: second\n"), "bad.yaml:13: a second YAML document"));
   const Scene cr = parse_scene(replaced(scene, "t_end: 0.01\n", "t_end: 0.01 # ten milliseconds\routput_interval: 0.005\n"),
                                "cr.yaml");
@@ -498,6 +501,11 @@ TEST_CASE("an output interval that would write more than a million frames is ref
             "key 'output_interval': t_end / output_interval = 0.01 s / 1e-300 s = 1e+298 frames, more than the limit of "
             "1e+06; give at least 1e-08 s"));
   CHECK(error_of(scene + "output_interval: 1.0e-8\n").empty());
+  // Issue 28's review: `--t-end 1e300` over a scene's interval blamed the interval, the key the
+  // user did not change; the count is blamed on t_end now, with both ways out.
+  const std::string longer = error_of(scene + "output_interval: 0.005\n", {"t_end=1e300"});
+  CHECK(has(longer, "--set: key 't_end': t_end / output_interval = 1e+300 s / 0.005 s"));
+  CHECK(has(longer, "give at most 5000 s, or a longer output_interval (bad.yaml:12: key 'output_interval')"));
 }
 
 TEST_CASE("the step count of a scene that freezes counts its moving steps until freeze.latest, not until t_end",
@@ -673,4 +681,55 @@ TEST_CASE("whole numbers are read as YAML 1.2 reads them: zero-padded decimal, 0
     INFO(bad);
     CHECK_THROWS_WITH(load_scene(heap, {bad}), Catch::Contains("expected a whole number"));
   }
+}
+
+// Issue 28's campaign: specific heat 1e-300 J/(kg K) on F2 gave conductance entries near 1e300,
+// whose squares overflowed inside the eigenvalue solver: the network's rate came out NaN, was read
+// as "no conducting contact", and the run died of NaN. At 1e-20 under IMEX the stage matrix could
+// not be factored (an internal error, exit 6). The rate is found in scaled units now, and a step
+// that leaves an implicit stage no digits is refused with the step to take.
+TEST_CASE("a tiny specific heat gives the conduction limit it implies, and an implicit step it defeats is refused",
+          "[hostile]") {
+  const auto f2 = [](const std::string& specific_heat, const std::string& integrator) {
+    return load_scene(testing::case_path("f2_pipe_network_pair.yaml"),
+                      {"materials.steel.specific_heat=" + specific_heat, "integrator=" + integrator});
+  };
+  const Scene shipped = f2("460", "velocity-verlet");
+  const double relaxation = estimate_stability(shipped).thermal_relaxation_time;  // 96.5 s
+  for (const double c : {1e-100, 1e-300}) {
+    std::ostringstream text;
+    text << c;
+    const Scene tiny = f2(text.str(), "velocity-verlet");
+    const StabilityEstimate est = estimate_stability(tiny);
+    INFO(c);
+    // The rate scales as 1 / capacity: the relaxation time as the specific heat.
+    CHECK(est.thermal_relaxation_time == Approx(relaxation * c / 460).epsilon(1e-9));
+    const DtVerdict v = judge_dt(est, tiny.dt, tiny);
+    CHECK(v.unstable);
+    CHECK(has(v.warnings.at(0), "explicit conduction limit"));
+  }
+  const Scene implicit = f2("1e-20", "imex4");
+  const DtVerdict v = verdict_of(implicit);
+  REQUIRE(v.unstable);
+  CHECK(has(v.warnings.at(0), "dt = 1 s is 4.76"));
+  CHECK(has(v.warnings.at(0), "times the thermal relaxation time"));
+  CHECK(has(v.warnings.at(0), "lower dt below 2.09"));
+  CHECK_FALSE(verdict_of(f2("1e-12", "imex4")).unstable);  // 4.8e12 relaxation times: solved (measured)
+}
+
+// Issue 28's review: tangential_stiffness_ratio 1e200 was refused with its stability limit while
+// 1e300, whose spring over the mass overflows, passed with a warning ("no stable step", its mode
+// "unresolved") and ran: a limit that is no number is kept by the estimate now, and refused.
+TEST_CASE("a tangential stiffness ratio whose spring over the mass overflows is refused, as a smaller one is",
+          "[hostile]") {
+  const auto ratio = [](const char* r) {
+    return verdict_of(load_scene(testing::case_path("t3_heap.yaml"), {std::string("contacts.0.tangential_stiffness_ratio=") + r}));
+  };
+  const DtVerdict big = ratio("1e200");
+  REQUIRE(big.unstable);
+  CHECK(has(big.warnings.at(0), "stability limit 5.98"));
+  const DtVerdict overflowing = ratio("1e300");
+  REQUIRE(overflowing.unstable);
+  CHECK(has(overflowing.warnings.at(0), "the time-step estimates are not numbers"));
+  CHECK_FALSE(ratio("1").unstable);
 }
