@@ -180,6 +180,12 @@ void ArkodeIntegrator::set_tolerances() {
   StepControl tol = control_;
   if (!(control_.rtol > 0)) {
     tol.rtol = 1e-12;
+    // Temperatures are in Celsius, whose origin is a convention: 1e-12 of one near 0 C plus
+    // 1e-14 asked the Newton iteration for 1e-14 K, below the round-off of the heat flows, and an
+    // IMEX run starting at 0 C failed at t = 0 blaming dt (issue 28, F13). Unless the user gives
+    // one, the temperatures' absolute part is 1e-12 of 0 C in kelvin: the test then weighs
+    // 1e-12 of the absolute temperature (or more below 0 C), as a state in kelvin would.
+    if (!(tol.atol > 0) && !std::isfinite(tol.atol_temperature)) tol.atol_temperature = tol.rtol * 273.15;
     if (!(tol.atol > 0)) tol.atol = 1e-14;
   } else if (!(tol.atol > 0)) {
     tol.atol = 1e-3 * tol.rtol;

@@ -39,3 +39,30 @@ TEST_CASE("P1 fine powder: IMEX runs at 6x the step where explicit conduction bl
         Approx(s["energy"]["thermal_change"].get<double>()).epsilon(1e-9));
   CHECK(s["temperature_min"].get<double>() > 99);
 }
+
+// Issue 28 (F13): a fixed step's Newton test weighed 1e-12 of a temperature in Celsius plus
+// 1e-14 K, so particles at 0 C asked the iteration for 1e-14 K, below the heat flows' round-off:
+// P1 started at 0 C failed at t = 0 with ARK_CONV_FAILURE and blamed dt. Conduction depends on
+// temperature differences alone, so the same bed 20 K warmer must give the same temperatures + 20 K.
+TEST_CASE("P1 started at 0 C runs under fixed-step IMEX, and 20 K warmer gives the same temperatures plus 20 K",
+          "[heat][powder]") {
+  const auto bed = [](double particles, double floor, FinalFields* fields) {
+    return run_scene(load_scene(testing::case_path("p1_fine_powder_compaction.yaml"),
+                                {"t_end=0.001", assignment("particles.0.temperature", particles),
+                                 "walls.0.temperature={steps: [[0, " + std::to_string(floor) + "], [0.008, 100]]}"}),
+                     {"", true, fields});
+  };
+  FinalFields cold, warm;
+  const nlohmann::json s = bed(0, 20, &cold);
+  bed(20, 40, &warm);
+  CHECK(s["integrator"] == "imex4");
+  REQUIRE(cold.temperature.size() == warm.temperature.size());
+  double largest = 0, furthest = 0;
+  for (size_t i = 0; i < cold.temperature.size(); ++i) {
+    largest = std::max(largest, cold.temperature[i]);
+    furthest = std::max(furthest, std::abs(warm.temperature[i] - 20 - cold.temperature[i]));
+  }
+  CHECK(largest > 1e-3);  // heat came in from the floor
+  // The iteration stops within 1e-12 of the absolute temperature (3e-10 K): ten times that.
+  CHECK(furthest < 3e-9);
+}
