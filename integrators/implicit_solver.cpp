@@ -2,6 +2,9 @@
 
 #include <chrono>
 #include <stdexcept>
+#include <string>
+
+#include "src/base/error.h"
 
 namespace kiln {
 
@@ -82,7 +85,12 @@ void ImplicitSolver::refresh() {
     if (!same_pattern) cholesky_.analyzePattern(matrix_);
     cholesky_.factorize(matrix_);
     if (cholesky_.info() != Eigen::Success)
-      throw std::runtime_error("the stage matrix W + gamma S is not positive definite (a negative conductance?)");
+      // C + gamma dt G is positive definite in exact arithmetic (capacities > 0, conductances >= 0):
+      // a failed factorisation is round-off, capacities too small against conductance x step
+      // (kiln check refuses dt lambda_max > 1e13 at t = 0; contacts formed later can exceed it).
+      throw InstabilityError("instability at t = " + std::to_string(t_) + " s: the implicit stage matrix C + gamma dt G " +
+                             "lost its positive definiteness to round-off (heat capacities too small against the "
+                             "conductances times the step); lower dt (kiln check gives the thermal relaxation time)");
   } else {
     cg_.setTolerance(cg_tolerance);
     cg_.compute(matrix_);

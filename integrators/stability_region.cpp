@@ -228,6 +228,13 @@ StepLimit mechanical_step_limit(const IntegratorInfo& info, const Eigen::MatrixX
   if (!info.integrates_contacts)
     throw InputError("integrator '" + info.name + "' integrates heat on frozen networks only: no mechanical step");
   if (k.rows() == 0) return {};
+  // A spring or dashpot over a mass beyond double precision (tangential_stiffness_ratio 1e300: the
+  // mode was then "unresolved", warned about and run): no step is a number, for the caller to refuse.
+  if (!k.allFinite() || !c.allFinite()) {
+    StepLimit nan;
+    nan.dt = NAN;
+    return nan;
+  }
   return info.scheme == IntegratorScheme::arkode ? erk_limit(info, k, c) : verlet_limit(info, k, c);
 }
 

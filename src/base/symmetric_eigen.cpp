@@ -3,6 +3,7 @@
 #include <Spectra/SymEigsSolver.h>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 namespace kiln {
@@ -10,12 +11,18 @@ namespace kiln {
 namespace {
 
 // Spectra's interface to an operator: its products, by pointer.
+// Spectra's interface to an operator: its products, by pointer, times 2^-exponent.
 struct SpectraProduct {
   using Scalar = double;
   const SymmetricOperator& a;
+  int exponent = 0;
   Eigen::Index rows() const { return a.rows(); }
   Eigen::Index cols() const { return a.rows(); }
-  void perform_op(const double* x, double* y) const { a.apply(x, y); }
+  void perform_op(const double* x, double* y) const {
+    a.apply(x, y);
+    if (exponent != 0)
+      for (Eigen::Index i = 0; i < rows(); ++i) y[i] = std::ldexp(y[i], -exponent);
+  }
 };
 
 struct SparseProduct final : SymmetricOperator {
@@ -50,7 +57,17 @@ Eigenpairs largest_eigenpairs(const SymmetricOperator& a, int count) {
   // Spectra wants count < ncv <= n. Its n x ncv Lanczos basis is the estimate's largest array
   // (ncv doubles per coordinate, more than a step's whole state); 2 count + 8 vectors converge in
   // a few restarts more than 3 count + 20 did, with 40 % less memory.
-  SpectraProduct product{a};
+  // The operator scaled by a power of two near its size, seen in one product with an unbiased
+  // vector, so that Lanczos' norms neither overflow nor underflow (as for a matrix, below).
+  Eigen::VectorXd probe = Eigen::VectorXd::LinSpaced(n, -1.0, 1.0).array().sin() + 0.5, image(n);
+  a.apply(probe.data(), image.data());
+  const double size = image.cwiseAbs().maxCoeff();
+  if (!std::isfinite(size)) {
+    out.values = Eigen::VectorXd::Constant(count, NAN);
+    out.vectors = Eigen::MatrixXd::Zero(n, count);
+    return out;
+  }
+  SpectraProduct product{a, size > 0 ? std::ilogb(size) : 0};
   Spectra::SymEigsSolver<SpectraProduct> lanczos(product, count, std::min(n, 2 * count + 8));
   lanczos.init();
   // Converged when each Ritz pair's residual is below 1e-7 |value|, which bounds the value's error
@@ -61,12 +78,30 @@ Eigenpairs largest_eigenpairs(const SymmetricOperator& a, int count) {
   if (lanczos.info() != Spectra::CompInfo::Successful)
     throw std::runtime_error("the Lanczos iteration for the largest eigenvalues did not converge");
   out.values = lanczos.eigenvalues();
+  for (double& v : out.values) v = std::ldexp(v, product.exponent);
   out.vectors = lanczos.eigenvectors();
   return out;
 }
 
+// Solved for the matrix scaled by a power of two that brings its largest entry near 1 (exact: the
+// values are scaled back without rounding), so that entries near the ends of double precision do
+// not overflow or underflow inside the solver: a conductance network of specific heat 1e-300 has
+// entries near 1e300, whose squares in the tridiagonalisation were infinite and its largest
+// eigenvalue NaN, read as "no conducting contact" (issue 28). An entry that is not finite makes
+// every value NaN, for the caller to refuse.
 Eigenpairs largest_eigenpairs(const Eigen::SparseMatrix<double>& a, int count) {
-  return largest_eigenpairs(SparseProduct(a), count);
+  const double largest = a.nonZeros() == 0 ? 0.0 : a.coeffs().cwiseAbs().maxCoeff();
+  if (!std::isfinite(largest)) {
+    Eigenpairs out;
+    out.values = Eigen::VectorXd::Constant(std::min<Eigen::Index>(count, a.rows()), NAN);
+    out.vectors = Eigen::MatrixXd::Zero(a.rows(), out.values.size());
+    return out;
+  }
+  const int exponent = largest > 0 ? std::ilogb(largest) : 0;
+  const Eigen::SparseMatrix<double> scaled = a * std::ldexp(1.0, -exponent);
+  Eigenpairs out = largest_eigenpairs(SparseProduct(scaled), count);
+  for (double& v : out.values) v = std::ldexp(v, exponent);
+  return out;
 }
 
 }  // namespace kiln

@@ -52,7 +52,8 @@ double FrozenConduction::stiffest_rate() const {
   // C^-1 L is similar to the symmetric C^-1/2 L C^-1/2: the same eigenvalues, found from that.
   std::vector<Eigen::Triplet<double>> entries;
   auto add = [&](int a, int b, double h) {
-    entries.emplace_back(a, b, h * std::sqrt(inv_capacity_[a] * inv_capacity_[b]));
+    // Each root taken alone: the product of two inverse capacities near 1e300 overflows.
+    entries.emplace_back(a, b, h * std::sqrt(inv_capacity_[a]) * std::sqrt(inv_capacity_[b]));
   };
   for (const ConductanceLink& link : links_) {
     add(link.i, link.i, link.h);
@@ -65,7 +66,10 @@ double FrozenConduction::stiffest_rate() const {
   Eigen::SparseMatrix<double> a(n, n);
   a.setFromTriplets(entries.begin(), entries.end());
   if (a.nonZeros() == 0) return 0;
-  return std::max(0.0, largest_eigenpairs(a, 1).values[0]);
+  // NaN (an overflowed conductance or capacity) is returned as such: max(0, NaN) read it as 0, "no
+  // conducting contact", and the run died of NaN.
+  const double rate = largest_eigenpairs(a, 1).values[0];
+  return std::isnan(rate) ? rate : std::max(0.0, rate);
 }
 
 }  // namespace kiln::thermal

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <optional>
 #include <sstream>
+#include <tuple>
 
 #include "contact/normal_force.h"
 #include "src/dem/contact_coefficients.h"
@@ -92,7 +93,7 @@ void thermal_estimate(const Scene& scene, const std::vector<double>& rmin, const
   for (int i = 0; i < system.particles(); ++i) capacity.push_back(system.heat_capacity(i));
   const thermal::FrozenConduction network(system.conduction_links(0, y.data()), capacity, {}, system.ledger_count());
   double lambda = network.stiffest_rate();
-  est.thermal_dt_limit_network = lambda > 0 ? 2 / lambda : INFINITY;
+  est.thermal_dt_limit_network = lambda > 0 || std::isnan(lambda) ? 2 / lambda : INFINITY;  // NaN is refused
   if (!scene.frozen) {
     // Dense packing of the smallest particles of each material pair at 1 % overlap.
     const int nm = scene.n_materials();
@@ -108,10 +109,11 @@ void thermal_estimate(const Scene& scene, const std::vector<double>& rmin, const
         const double c = disc_mass(scene, ra, ma.density) * ma.specific_heat;
         // The largest eigenvalue of a triangular lattice's Laplacian: 9 h (six neighbours;
         // Gershgorin's bound is 12 h).
-        lambda = std::max(lambda, 9 * h / c);
+        const double rate = 9 * h / c;
+        if (std::isnan(rate) || rate > lambda) lambda = rate;  // NaN kept, to be refused (max drops it)
       }
   }
-  if (lambda > 0) {
+  if (lambda > 0 || std::isnan(lambda)) {
     est.thermal_dt_limit = 2 / lambda;
     est.thermal_relaxation_time = 1 / lambda;
   }
@@ -266,8 +268,9 @@ MechanicalLimit scene_limit(const Scene& scene, const std::string& integrator, c
     }
   }
   MechanicalLimit best;
-  auto consider = [&](const MechanicalLimit& l) {
-    if (l.dt < best.dt || (std::isinf(best.dt) && best.state.empty())) best = l;
+  auto consider = [&](const MechanicalLimit& l) {  // a limit that is no number is kept, to be refused
+    if (std::isnan(best.dt)) return;
+    if (std::isnan(l.dt) || l.dt < best.dt || (std::isinf(best.dt) && best.state.empty())) best = l;
   };
   {
     progress.phase("the contacts at t = 0");
@@ -388,6 +391,9 @@ namespace {
 // IMEX integrators take conduction implicitly and have no such limit.
 // The limits are 2 / lambda_max (Euler, Heun, the Verlet schemes' temperatures), scaled by the
 // integrator's reach along the negative real axis (RK4 2.79 / lambda_max; IMEX: none).
+// dt lambda_max beyond which an implicit conduction stage is refused (judge_conduction).
+constexpr double implicit_conditioning_limit = 1e13;
+
 void judge_conduction(const StabilityEstimate& est, double dt, const Scene& scene, DtVerdict& v) {
   const double reach = real_stability_of(scene.integrator) / 2;
   const std::string& heating = scene.freeze.integrator.empty() ? scene.integrator : scene.freeze.integrator;
@@ -401,6 +407,23 @@ void judge_conduction(const StabilityEstimate& est, double dt, const Scene& scen
     v.warnings.push_back(s.str());
     return;
   }
+  // An implicit stage solves (C + gamma dt G) T = b, whose condition number is about 1 + dt
+  // lambda_max: beyond 1e13 the solve keeps fewer than three digits of double precision, and at
+  // specific heat 1e-20 J/(kg K) on F2 the factorisation failed outright (an internal error, exit 6;
+  // issue 28). Such a step is refused; so is its freeze.dt.
+  const double lambda = 1 / est.thermal_relaxation_time;
+  for (const auto& [name, step, stepper] : {std::tuple{"dt", dt, scene.integrator},
+                                            std::tuple{"freeze.dt", scene.freeze.enabled ? scene.freeze.dt : 0.0, heating}})
+    if (std::isinf(real_stability_of(stepper)) && step * lambda > implicit_conditioning_limit) {
+      s << name << " = " << step << " s is " << step * lambda << " times the thermal relaxation time "
+        << est.thermal_relaxation_time << " s: " << stepper << "'s implicit stages (C + gamma dt G) would be solved with "
+        << "a condition number beyond " << implicit_conditioning_limit << ", fewer than three digits of double "
+        << "precision (heat capacities this small equalise the temperatures at once); lower " << name << " below "
+        << implicit_conditioning_limit * est.thermal_relaxation_time << " s";
+      v.unstable = true;
+      v.warnings.push_back(s.str());
+      return;
+    }
   if (dt >= reach * est.thermal_dt_limit) {
     s << "dt = " << dt << " s is beyond " << scene.integrator << "'s explicit conduction limit "
       << reach * est.thermal_dt_limit << " s on a dense packing at 1 % overlap: the temperatures may blow up once "
@@ -549,8 +572,9 @@ DtVerdict judge_dt(const StabilityEstimate& est, double dt, const Scene& scene) 
   if (scene.freeze.enabled && scene.control.rtol == 0)
     if (auto why = too_many_steps("freeze.dt", scene.freeze.dt, scene.t_end)) return refused(at + *why);
   if (not_a_number(est))
-    return refused("the time-step estimates are not numbers: the scene's masses, stiffnesses, conductivities or "
-                   "speeds overflow double precision (about 1.8e308)");
+    return refused("the time-step estimates are not numbers: the scene's masses, stiffnesses (and their tangential "
+                   "and rolling ratios), conductivities, heat capacities or speeds overflow double precision (about "
+                   "1.8e308)");
   if (scene.thermal) judge_conduction(est, dt, scene, v);
   if (!v.unstable && !scene.frozen) judge_mechanics(est, dt, scene, v);
   return v;
