@@ -1,5 +1,7 @@
 #include "contact/contact_law.h"
 
+#include "contact/in_series.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -14,12 +16,10 @@ double effective_modulus(const ContactMaterial& a, const ContactMaterial& b) {
 ContactLaw mixed_law(const ContactMaterial& a, const ContactMaterial& b, NormalModel model) {
   ContactLaw law;
   law.model = model;
-  // Springs in series; as 2 / (1/k1 + 1/k2) where k1 k2 overflows (two stiffnesses of 1e300 made an
-  // infinite pair stiffness, which the step estimate left out: check passed, the run died of NaN).
-  const double product = a.stiffness * b.stiffness;
+  // Springs in series (contact/in_series.h: two stiffnesses of 1e300 made an infinite pair
+  // stiffness, which the step estimate left out; two of 1e-200 made 0).
   law.stiffness = !(a.stiffness > 0 && b.stiffness > 0) ? std::max(a.stiffness, b.stiffness)
-                  : std::isfinite(product)              ? 2 * product / (a.stiffness + b.stiffness)
-                                                        : 2 / (1 / a.stiffness + 1 / b.stiffness);
+                                                        : 2 * in_series(a.stiffness, b.stiffness);
   law.effective_modulus = effective_modulus(a, b);
   law.restitution = std::sqrt(a.restitution * b.restitution);
   law.friction = std::min(a.friction, b.friction);

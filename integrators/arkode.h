@@ -91,6 +91,8 @@ class ArkodeIntegrator final : public Integrator {
   std::vector<double> step_reached_;  // ... and where it went, when it outran the neighbour lists
   long events_located_ = 0;
   long stalled_events_ = 0;  // events in a row located at the step's start
+  long stalled_steps_ = 0;   // adaptive steps in a row within the time's round-off (step())
+  static constexpr long max_stalled_steps = 10000;
   long neighbour_redos_ = 0;
   long skin_capped_ = 0;  // adaptive steps shortened to the neighbour lists' bound
 };

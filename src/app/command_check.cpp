@@ -47,7 +47,7 @@ class CheckCommand final : public Command {
       std::printf("  mechanics frozen: no mechanical time step\n");
     } else {
       if (std::isfinite(est.contact_duration) && scene.dt <= est.contact_duration)
-        std::printf("  shortest contact duration  %.4g s (%s); dt is 1/%.1f of it\n", est.contact_duration,
+        std::printf("  shortest contact duration  %.4g s (%s); dt is 1/%.4g of it\n", est.contact_duration,
                     est.shortest_pair.c_str(), est.contact_duration / scene.dt);
       else if (std::isfinite(est.contact_duration))  // "1/0.5 of it" read as a fraction
         std::printf("  shortest contact duration  %.4g s (%s); dt is %.3g times it\n", est.contact_duration,
@@ -58,6 +58,9 @@ class CheckCommand final : public Command {
                     scene.n_particles() > 1 ? "no walls, no particles approaching" : "one particle, no walls");
       else if (std::isinf(l.dt))
         std::printf("  stability limit of dt      none from the contacts analysed (%s)\n", l.state.c_str());
+      else if (std::isnan(l.dt))
+        std::printf("  stability limit of dt      not a number: a spring over a mass on %s overflows double precision\n",
+                    l.state.c_str());
       else if (l.dt == 0)
         std::printf("  stability limit of dt      none: %s\n", describe_limit(est).c_str());
       else
@@ -71,7 +74,7 @@ class CheckCommand final : public Command {
                     "                             energy balanced: no check can stop such a run (kiln sweep shows the drift)\n",
                     l.blow_up_dt, l.mode.c_str(), l.mode == "rolling" ? "rolling" : "Coulomb");
       if (std::isfinite(est.rayleigh))
-        std::printf("  Rayleigh time step         %.4g s (smallest particle); dt is %.1f %% of it\n", est.rayleigh,
+        std::printf("  Rayleigh time step         %.4g s (smallest particle); dt is %.4g %% of it\n", est.rayleigh,
                     100 * scene.dt / est.rayleigh);
       else
         std::printf("  Rayleigh time step         n/a (no youngs_modulus given)\n");

@@ -9,20 +9,32 @@
 
 namespace kiln {
 
+namespace {
+// CLI11 gives a list option whose value holds no item (`--integrators ,`) the next argument, an
+// option's name: it was called an unknown integrator (issue 28's review). Said as what it is.
+std::string option_taken_as_value(const std::string& text) {
+  return text.rfind("--", 0) == 0 ? "got the option '" + text.substr(0, 60) +
+                                        "' as a value: the list before it holds no item (give comma-separated values)"
+                                  : std::string();
+}
+}  // namespace
+
 const CLI::Validator positive_finite(
     [](std::string& text) {
+      if (std::string taken = option_taken_as_value(text); !taken.empty()) return taken;
       try {
         size_t used = 0;
         const double v = std::stod(text, &used);
         if (used == text.size() && std::isfinite(v) && v > 0) return std::string();
       } catch (const std::exception&) {
       }
-      return "must be a positive finite number, got '" + text + "'";
+      return "must be a positive finite number, got '" + text.substr(0, 60) + "'";
     },
     "POSITIVE");
 
 const CLI::Validator integrator_name(
     [](std::string& text) {
+      if (std::string taken = option_taken_as_value(text); !taken.empty()) return taken;
       try {
         integrator_info(text);
       } catch (const InputError& e) {

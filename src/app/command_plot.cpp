@@ -49,7 +49,14 @@ class PlotCommand final : public Command {
 
   int run() override {
     RunOutputs::require_published(dir_, "summary.json", "plot it");
-    require_writable_directory(dir_, "kiln plot");  // a read-only run printed a Python traceback
+    // A read-only run printed a Python traceback; it is told before drawing, with the exit status
+    // of a figure that cannot be written (4: no permission), not of bad input.
+    try {
+      require_writable_directory(dir_, "kiln plot");
+    } catch (const InputError& e) {
+      std::fprintf(stderr, "error: %s\n", bounded(e.what()).c_str());
+      return exit_output_failed;
+    }
     const std::string figure = (std::filesystem::path(dir_) / "plots.png").string();
     // A figure not drawn says why in one line, with its exit code (4: no room, no permission or
     // no matplotlib; 6: a defect of the script's): before, a full disk printed the script's

@@ -3,6 +3,7 @@
 #include <CLI/CLI.hpp>
 
 #include <algorithm>
+#include <csignal>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -15,6 +16,10 @@
 #include "src/studies/study_ranks.h"
 
 int main(int argc, char** argv) {
+  // A file-size limit (ulimit -f) is a full disk by another name: with SIGXFSZ ignored the write
+  // fails with EFBIG and the run keeps its finished work and says so (exit 4); by default the
+  // signal killed the process without a word (issue 28's review).
+  std::signal(SIGXFSZ, SIG_IGN);
   CLI::App app{"kiln: 2D thermo-mechanical discrete element engine with swappable integrators"};
   app.require_subcommand(1);
   std::vector<std::unique_ptr<kiln::Command>> commands;

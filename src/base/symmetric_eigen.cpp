@@ -11,7 +11,8 @@ namespace kiln {
 namespace {
 
 // Spectra's interface to an operator: its products, by pointer.
-// Spectra's interface to an operator: its products, by pointer, times 2^-exponent.
+// Spectra's interface to an operator: its products, by pointer, times 2^-exponent (a product by a
+// power of two: exact, and a multiplication where ldexp was a library call per entry).
 struct SpectraProduct {
   using Scalar = double;
   const SymmetricOperator& a;
@@ -20,8 +21,10 @@ struct SpectraProduct {
   Eigen::Index cols() const { return a.rows(); }
   void perform_op(const double* x, double* y) const {
     a.apply(x, y);
-    if (exponent != 0)
-      for (Eigen::Index i = 0; i < rows(); ++i) y[i] = std::ldexp(y[i], -exponent);
+    if (exponent == 0) return;
+    // In two halves: 2^-exponent alone is infinite or subnormal for an operator of subnormal size.
+    const double first = std::ldexp(1.0, -exponent / 2), second = std::ldexp(1.0, exponent / 2 - exponent);
+    for (Eigen::Index i = 0; i < rows(); ++i) y[i] = y[i] * first * second;
   }
 };
 
@@ -90,7 +93,11 @@ Eigenpairs largest_eigenpairs(const SymmetricOperator& a, int count) {
 // eigenvalue NaN, read as "no conducting contact" (issue 28). An entry that is not finite makes
 // every value NaN, for the caller to refuse.
 Eigenpairs largest_eigenpairs(const Eigen::SparseMatrix<double>& a, int count) {
-  const double largest = a.nonZeros() == 0 ? 0.0 : a.coeffs().cwiseAbs().maxCoeff();
+  // Over the stored entries (coeffs() of a matrix not compressed holds unused slots too).
+  double largest = 0;
+  for (Eigen::Index k = 0; k < a.outerSize(); ++k)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(a, k); it; ++it)
+      largest = std::isnan(it.value()) ? it.value() : std::max(largest, std::abs(it.value()));
   if (!std::isfinite(largest)) {
     Eigenpairs out;
     out.values = Eigen::VectorXd::Constant(std::min<Eigen::Index>(count, a.rows()), NAN);
@@ -98,7 +105,9 @@ Eigenpairs largest_eigenpairs(const Eigen::SparseMatrix<double>& a, int count) {
     return out;
   }
   const int exponent = largest > 0 ? std::ilogb(largest) : 0;
-  const Eigen::SparseMatrix<double> scaled = a * std::ldexp(1.0, -exponent);
+  // In two halves, as SpectraProduct does.
+  Eigen::SparseMatrix<double> scaled = a * std::ldexp(1.0, -exponent / 2);
+  scaled *= std::ldexp(1.0, exponent / 2 - exponent);
   Eigenpairs out = largest_eigenpairs(SparseProduct(scaled), count);
   for (double& v : out.values) v = std::ldexp(v, exponent);
   return out;

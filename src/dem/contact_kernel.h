@@ -7,6 +7,7 @@
 #pragma once
 #include <cmath>
 
+#include "contact/in_series.h"
 #include "src/dem/dem_system.h"
 
 namespace kiln {
@@ -23,8 +24,8 @@ inline DemSystem::PairMasses DemSystem::pair_masses(int i, int j) const {
   if (j < 0) return {mass_[i], inertia_[i] + mass_[i] * radius_[i] * radius_[i], radius_[i], inertia_[i]};
   const double ri = inertia_[i] + mass_[i] * radius_[i] * radius_[i];
   const double rj = inertia_[j] + mass_[j] * radius_[j] * radius_[j];
-  return {mass_[i] * mass_[j] / (mass_[i] + mass_[j]), ri * rj / (ri + rj),
-          radius_[i] * radius_[j] / (radius_[i] + radius_[j]), inertia_[i] * inertia_[j] / (inertia_[i] + inertia_[j])};
+  return {contact::in_series(mass_[i], mass_[j]), contact::in_series(ri, rj), contact::in_series(radius_[i], radius_[j]),
+          contact::in_series(inertia_[i], inertia_[j])};
 }
 
 inline contact::TangentialLaw DemSystem::tangential_law(const ContactCoefficients& lf, const contact::NormalLaw& nl,

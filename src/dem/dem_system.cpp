@@ -202,6 +202,11 @@ void DemSystem::state(SnapshotFields& f) {
   if (!within(pp_.i, n_) || !within(pp_.j, n_) || !within(pw_.i, n_) ||
       !within(pw_.j, static_cast<int>(scene_.segments.size())))
     throw InputError("the checkpoint's contacts name particles or wall segments this scene does not have");
+  // A particle in contact with itself was resumed and stopped by the overlap check, blaming dt.
+  for (size_t p = 0; p < pp_.i.size(); ++p)
+    if (pp_.i[p] == pp_.j[p])
+      throw InputError("the checkpoint's particle contacts (pairs.i, pairs.j) pair particle " + std::to_string(pp_.i[p]) +
+                       " with itself (contact " + std::to_string(p) + ")");
   std::vector<int> order = particle_at_;
   std::sort(order.begin(), order.end());
   bool permutation = static_cast<int>(order.size()) == n_;

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <sstream>
 
+#include "contact/in_series.h"
 #include "src/dem/dem_system.h"
 #include "src/geometry/curve_order.h"
 #include "src/base/parallel.h"
@@ -210,8 +211,8 @@ void DemSystem::set_coefficients(ContactList& list, bool walls) {
     const int mi = material_[i];
     const int mj = walls ? scene_.walls[scene_.segments[j].wall].material : material_[j];
     // A wall is a flat body of infinite mass: m_eff = m_i and R* = r_i.
-    const double m_eff = walls ? mass_[i] : mass_[i] * mass_[j] / (mass_[i] + mass_[j]);
-    const double r_eff = walls ? radius_[i] : radius_[i] * radius_[j] / (radius_[i] + radius_[j]);
+    const double m_eff = walls ? mass_[i] : contact::in_series(mass_[i], mass_[j]);
+    const double r_eff = walls ? radius_[i] : contact::in_series(radius_[i], radius_[j]);
     const contact::NormalLaw nl = laws_[mi * nm + mj].normal_law(m_eff, r_eff);
     list.law[p] = static_cast<uint16_t>(mi * nm + mj);
     list.k[p] = nl.k;

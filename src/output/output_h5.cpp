@@ -10,6 +10,7 @@
 
 #include "src/base/error.h"
 #include "src/base/h5_errors.h"
+#include "src/base/text_format.h"
 
 namespace kiln {
 
@@ -28,11 +29,13 @@ H5Frames::H5Frames(const std::string& path, const ResultLayout& layout) : path_(
   zeros_.assign(std::max({layout_.particles, layout_.walls, layout_.segments}), 0.0);  // a null field of any item
 }
 
-H5Frames::H5Frames(const std::string& path, const ResultLayout& layout, int keep) : path_(path), layout_(layout) {
+H5Frames::H5Frames(const std::string& path, const ResultLayout& layout, int keep, double resumed_at)
+    : path_(path), layout_(layout) {
   h5_setup();
   std::fill_n(ds_, frame_field_count, -1);
   file_ = h5_id(H5Fopen(path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT), "open (to resume)", path_);
   try {
+    check_kept_frames(keep, resumed_at);
     for (const FrameFieldInfo& f : frame_fields)
       if (present(f)) ds_[static_cast<int>(f.field)] = open(shape(f), keep);
     drop_frame_views(keep);
@@ -47,6 +50,38 @@ H5Frames::H5Frames(const std::string& path, const ResultLayout& layout, int keep
 }
 
 H5Frames::~H5Frames() { abandon(); }
+
+// A checkpoint of 3 frames at t = 0.4 s over a result of 41 (its checksums written afresh) was
+// resumed, and frames 0.03 to 0.40 s were cut (issue 28's review): the count is checked against
+// the frames' own times before anything is cut.
+void H5Frames::check_kept_frames(int keep, double resumed_at) const {
+  const hid_t ds = h5_id(H5Dopen2(file_, "time", H5P_DEFAULT), "open dataset 'time' in", path_);
+  const hid_t space = H5Dget_space(ds);
+  hsize_t stored = 0;
+  const bool one_axis = space >= 0 && H5Sget_simple_extent_ndims(space) == 1 &&
+                        H5Sget_simple_extent_dims(space, &stored, nullptr) == 1;
+  const hsize_t count = std::min<hsize_t>(stored, static_cast<hsize_t>(keep) + 1);
+  std::vector<double> times(count);
+  herr_t status = one_axis ? 0 : -1;
+  if (status >= 0 && count > 0) {
+    const hsize_t start = 0;
+    const hid_t memory = H5Screate_simple(1, &count, nullptr);
+    status = memory < 0 ? -1 : H5Sselect_hyperslab(space, H5S_SELECT_SET, &start, nullptr, &count, nullptr);
+    if (status >= 0) status = H5Dread(ds, H5T_NATIVE_DOUBLE, memory, space, H5P_DEFAULT, times.data());
+    if (memory >= 0) H5Sclose(memory);
+  }
+  if (space >= 0) H5Sclose(space);
+  H5Dclose(ds);
+  h5_check(status, "read dataset 'time' of", path_);
+  const bool last_before = keep == 0 || (count >= static_cast<hsize_t>(keep) && times[keep - 1] <= resumed_at);
+  // A frame at the checkpoint's own time may follow it (a stop at a frame's time checkpoints first).
+  const bool next_after = count <= static_cast<hsize_t>(keep) || times[keep] >= resumed_at;
+  if (!last_before || !next_after)
+    throw InputError(path_ + ": the checkpoint at t = " + format("%.9g", resumed_at) + " s counts " +
+                     std::to_string(keep) + " frames, but this file's frame " + std::to_string(last_before ? keep : keep - 1) +
+                     " is at t = " + format("%.9g", times[last_before ? keep : keep - 1]) +
+                     " s: a checkpoint that does not match its frames (resuming it would drop finished frames)");
+}
 
 bool H5Frames::present(const FrameFieldInfo& f) const { return in_result(f, layout_); }
 

@@ -57,7 +57,9 @@ class H5Frames {
   H5Frames(const std::string& path, const ResultLayout& layout);
   // An existing file of a run being resumed: frames after the first `keep` are dropped from every
   // dataset of frames (those a killed run wrote after its checkpoint), and new frames follow them.
-  H5Frames(const std::string& path, const ResultLayout& layout, int keep);
+  // The frames kept must be those the checkpoint at time `resumed_at` counts: the last of them at
+  // or before it and the next (a killed run's) after it; else InputError, nothing cut.
+  H5Frames(const std::string& path, const ResultLayout& layout, int keep, double resumed_at);
   ~H5Frames();
   H5Frames(const H5Frames&) = delete;
   H5Frames& operator=(const H5Frames&) = delete;
@@ -94,6 +96,7 @@ class H5Frames {
   void leave_as_flushed();
 
  private:
+  void check_kept_frames(int keep, double resumed_at) const;
   struct Shape {
     const char* name = nullptr;
     const char* units = nullptr;

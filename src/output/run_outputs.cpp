@@ -180,7 +180,7 @@ RunOutputs::RunOutputs(const std::string& dir, const DemSystem& sys, const std::
   try {
     if (error)
       throw OutputError("cannot copy " + path(original) + " to " + path("result.h5.tmp") + ": " + error.message());
-    h5_ = std::make_unique<H5Frames>(path("result.h5.tmp"), layout_, frames);
+    h5_ = std::make_unique<H5Frames>(path("result.h5.tmp"), layout_, frames, checkpoint.real("time"));
     times_ = h5_->times();
   } catch (...) {
     if (h5_) h5_->abandon();

@@ -7,6 +7,7 @@
 #include <sstream>
 #include <tuple>
 
+#include "contact/in_series.h"
 #include "contact/normal_force.h"
 #include "src/dem/contact_coefficients.h"
 #include "src/dem/dem_system.h"
@@ -102,7 +103,7 @@ void thermal_estimate(const Scene& scene, const std::vector<double>& rmin, const
         if (!count[a] || !count[b]) continue;
         const ContactCoefficients pair = contact_coefficients(scene, a, b);
         const double ra = rmin[a], rb = rmin[b], overlap = 0.01 * std::min(ra, rb);
-        const double k = pair.normal_stiffness(ra * rb / (ra + rb));
+        const double k = pair.normal_stiffness(contact::in_series(ra, rb));
         const double fn = contact::normal_force({k, 0, pair.law.model, true}, overlap, 0);
         const double h = thermal::conductance(pair.conduction, ra, rb, ra + rb - overlap, fn);
         const Material& ma = scene.materials[a];
@@ -236,7 +237,7 @@ void for_each_material_pair(const Scene& scene, const std::vector<double>& rmin,
       if (!count[a] || !count[b] || (a == b && count[a] < 2)) continue;
       const double mass_a = disc_mass(scene, rmin[a], scene.materials[a].density);
       const double mass_b = disc_mass(scene, rmin[b], scene.materials[b].density);
-      f(a, b, mass_a * mass_b / (mass_a + mass_b), rmin[a] * rmin[b] / (rmin[a] + rmin[b]));
+      f(a, b, contact::in_series(mass_a, mass_b), contact::in_series(rmin[a], rmin[b]));
     }
 }
 
@@ -360,7 +361,7 @@ StabilityEstimate estimate_stability(const Scene& scene, const std::string& inte
         for (int at : scene.attached) contacts += at == static_cast<int>(wi) ? 2 : 0;
         m_wall = w.motion.mass / contacts;
       }
-      const double m_eff = std::isfinite(m_wall) ? mass_a * m_wall / (mass_a + m_wall) : mass_a;
+      const double m_eff = std::isfinite(m_wall) ? contact::in_series(mass_a, m_wall) : mass_a;
       consider(a, w.material, m_eff, rmin[a], speeds.wall, ma.name + "-wall(" + w.name + ")");
     }
     if (ma.contact.youngs_modulus > 0) {
@@ -570,7 +571,10 @@ DtVerdict judge_dt(const StabilityEstimate& est, double dt, const Scene& scene) 
   if (scene.control.rtol == 0)
     if (auto why = too_many_moving_steps(scene, dt, scene.t_end)) return refused(at + *why);
   if (scene.freeze.enabled && scene.control.rtol == 0)
-    if (auto why = too_many_steps("freeze.dt", scene.freeze.dt, scene.t_end)) return refused(at + *why);
+    if (auto why = too_many_steps("freeze.dt", scene.freeze.dt, scene.t_end))
+      return refused(scene.t_end_at.file.empty() || scene.freeze.dt_at.file.empty()
+                         ? at + *why
+                         : describe(scene.t_end_at) + " and " + describe(scene.freeze.dt_at) + ": " + *why);
   if (not_a_number(est))
     return refused("the time-step estimates are not numbers: the scene's masses, stiffnesses (and their tangential "
                    "and rolling ratios), conductivities, heat capacities or speeds overflow double precision (about "

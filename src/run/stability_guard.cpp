@@ -250,6 +250,16 @@ void StabilityGuard::fail(double t, const double* y, const std::string& what, bo
     const std::optional<MechanicalLimit> now =
         limit_at(sys_, t, y, sys_.layout().size(), estimate_.integrator);
     const StabilityEstimate est = now ? with_state(estimate_, *now) : estimate_;
+    // A step already within the recommendation is not what failed: "recommends dt <= 7.2e117 s"
+    // was the advice to a run of dt 1e-5 whose discs, of Young's modulus 1e-300, passed through
+    // each other (issue 28's review).
+    if (est.recommended_dt >= dt_) {
+      s << "this dt is within what the stability estimate recommends (" << est.recommended_dt << " s; "
+        << describe_limit(est) << "), so the step is not the cause: an overlap that grows at a resolved step "
+        << "means contacts too soft for the loads on them (raise the stiffness or Young's modulus), a speed that "
+        << "grows means forces or loads beyond what the scene intends";
+      throw InstabilityError(s.str());
+    }
     s << "the stability estimate recommends dt <= " << est.recommended_dt
       << (est.recommended_dt < est.contact_duration / 50 ? " s (the stability limit; contact duration "
                                                           : " s (contact duration ")

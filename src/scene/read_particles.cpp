@@ -14,6 +14,8 @@ namespace kiln::scene_parts {
 
 namespace {
 
+constexpr double speed_of_light = 299792458;  // m/s
+
 RadiusDistribution read_radius(const SceneNode& node) {
   if (node.is_map()) {
     node.allow();
@@ -230,8 +232,20 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
       if (jitter > 0) v = v + Vec2{velocity_rng.uniform(-jitter, jitter), velocity_rng.uniform(-jitter, jitter)};
       if (!std::isfinite(v.x) || !std::isfinite(v.y))
         ps.fail("the velocities overflow double precision (random_velocity.max near 1.8e308)");
+      // No grain moves faster than light: a bound no physical scene meets, far below where a kinetic
+      // energy overflows (an angular_velocity of 1e300 passed check and the run died of an
+      // infinite I omega^2, blaming dt; issue 28's review).
+      const double w = file && file->has_angular_velocity ? file->angular_velocity[k] : spin;
+      const double speed = std::hypot(v.x, v.y), rim = std::abs(w) * placed.radius[k];
+      if (!(speed <= speed_of_light) || !(rim <= speed_of_light)) {
+        const bool moving = !(speed <= speed_of_light);
+        const char* key = moving ? (file && file->has_velocity ? "file" : jitter > 0 ? "random_velocity" : "velocity")
+                                 : (file && file->has_angular_velocity ? "file" : "angular_velocity");
+        ps[key].fail(format("particle %zu of this set would move at %g m/s (%s): faster than light (299792458 m/s)",
+                            k, moving ? speed : rim, moving ? "its velocity" : "its rim, angular velocity x radius"));
+      }
       scene.velocity.push_back(v);
-      scene.angular_velocity.push_back(file && file->has_angular_velocity ? file->angular_velocity[k] : spin);
+      scene.angular_velocity.push_back(w);
       scene.material.push_back(mat);
       sets.of.push_back(static_cast<int>(sets.location.size()));
     }

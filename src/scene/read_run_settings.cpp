@@ -54,6 +54,7 @@ void read_heat(const SceneNode& root, Scene& scene) {
     if (auto n = f->optional("not_before")) scene.freeze.not_before = n->non_negative();
     if (auto l = f->optional("latest")) scene.freeze.latest = l->positive();
     scene.freeze.dt = (*f)["dt"].positive();
+    scene.freeze.dt_at = (*f)["dt"].location();
     if (auto o = f->optional("output_interval")) scene.freeze.output_interval = o->positive();
     if (auto i = f->optional("integrator")) scene.freeze.integrator = i->text();
   }

@@ -1,6 +1,7 @@
 // The walls (shapes flattened to segments, SVG drawings, temperatures; their motions are
 // wall_motion.cpp's), the particles attached to them, and the periodic cell.
 #include "src/scene/scene_parts.h"
+#include "src/base/text_format.h"
 
 #include <algorithm>
 #include <cmath>
@@ -39,12 +40,18 @@ thermal::WallTemperature read_wall_temperature(const SceneNode& node) {
 
 // A circle or an arc as chords. Its tolerance is at least 1e-9 of its radius: the chords then
 // number at most about 70,000 per turn (the sagitta R (1 - cos(dphi/2)) <= tolerance), and an arc
-// turns at most once.
+// turns at most once. It is at most half the radius, so that a circle has at least three chords: a
+// tolerance of 1e300, or a radius of 1e-9 m under the default one, made chords of zero length,
+// refused without naming either (issue 28's review).
 std::vector<Vec2> read_arc(const SceneNode& node, double from, double to, double tolerance) {
   node.allow();
   const double radius = length(node["radius"]);
   if (tolerance < 1e-9 * radius)
     node.fail("the tolerance is below 1e-9 of the radius: the chords would be too many to hold");
+  if (tolerance > 0.5 * radius)
+    node.fail(format("the tolerance (%g m) is above half the radius (%g m): a circle would be fewer than three "
+                     "chords; give a smaller tolerance or a larger radius",
+                     tolerance, radius));
   return arc_points(point(node["centre"]), radius, from, to, tolerance);
 }
 

@@ -103,6 +103,7 @@ struct FreezeStage {
   double not_before = 0;
   double latest = INFINITY;
   double dt = 0;
+  Location dt_at;  // where freeze.dt was given, for refusals of the heating's length in steps
   double output_interval = 0;
   std::string integrator;  // of the frozen stage; empty: the scene's
 };

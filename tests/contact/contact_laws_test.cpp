@@ -3,6 +3,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "contact/in_series.h"
 #include "contact/contact_frame.h"
 #include "contact/normal_force.h"
 #include "contact/rolling_resistance.h"
@@ -226,4 +227,15 @@ TEST_CASE("two stiffnesses whose product overflows combine in series to a finite
   a.stiffness = 6000;  // ordinary magnitudes keep their bits
   b.stiffness = 2000;
   CHECK(kiln::contact::mixed_law(a, b, kiln::contact::NormalModel::linear).stiffness == 2 * 6000.0 * 2000.0 / 8000.0);
+}
+
+// Issue 28's review: two discs of 1e-250 kg/m^3 (about 1e-259 kg each) had an effective mass of 0
+// (the product underflows), and their rolling stiffness I k_n / (16 m_eff) was NaN; two stiffnesses
+// of 1e-200 N/m combined to 0. Where the product is a normal double the bits are those of before.
+TEST_CASE("two values in series keep their size near double's ends and their bits elsewhere", "[laws]") {
+  CHECK(kiln::contact::in_series(4.2e-259, 4.2e-259) == Approx(2.1e-259).epsilon(1e-12));
+  CHECK(kiln::contact::in_series(1e-200, 1e-200) == Approx(5e-201).epsilon(1e-12));
+  CHECK(kiln::contact::in_series(1e300, 1e300) == Approx(5e299).epsilon(1e-12));
+  const double a = 0.3, b = 7.1e-3;
+  CHECK(kiln::contact::in_series(a, b) == a * b / (a + b));
 }

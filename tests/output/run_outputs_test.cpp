@@ -538,8 +538,14 @@ TEST_CASE("reopening result.h5 to resume cuts every dataset of frames to the che
   const std::vector<std::string> names = datasets_of(file);
   // 10 of frames, radius, id, wall_of_segment, wall_connectivity; the 9 views of each of 5 frames
   CHECK(names.size() == 14 + 5 * 9);
+  // Issue 28's review: a checkpoint whose frame count disagrees with its time (3 frames at t = 4 s
+  // here, or at 1.5 s) would cut finished frames or keep later ones: refused, nothing cut.
+  CHECK_THROWS_WITH(H5Frames(file.string(), layout, 3, 3.5),
+                    Catch::Contains("counts 3 frames, but this file's frame 3 is at t = 3 s"));
+  CHECK_THROWS_WITH(H5Frames(file.string(), layout, 3, 1.5),
+                    Catch::Contains("counts 3 frames, but this file's frame 2 is at t = 2 s"));
   {
-    H5Frames h5(file.string(), layout, 3);
+    H5Frames h5(file.string(), layout, 3, 2.5);
     CHECK(h5.times() == std::vector<double>{0, 1, 2});
     h5.close();
   }
@@ -554,7 +560,7 @@ TEST_CASE("reopening result.h5 to resume cuts every dataset of frames to the che
   CHECK(of_frames == 10);
   // A result without the datasets this run writes (an older kiln's, another scene's) is refused.
   layout.walls = 3;
-  CHECK_THROWS_AS(H5Frames(file.string(), layout, 3), InputError);
+  CHECK_THROWS_AS(H5Frames(file.string(), layout, 3, 2.5), InputError);
   fs::remove_all(dir);
 }
 

@@ -141,6 +141,19 @@ TEST_CASE("a resumed run whose --t-end makes more than a million frames is refus
                         !Catch::Contains("output_interval ("));
 }
 
+// Issue 28's review: a contact pairing a particle with itself was resumed and stopped by the
+// overlap check, blaming dt.
+TEST_CASE("a checkpoint contact that pairs a particle with itself is refused, naming the lists", "[checkpoint][hostile]") {
+  using namespace kiln::fuzz::checkpoint_detail;
+  kiln::Snapshot s = base(cases_dir);
+  std::vector<long long> j = s.integers("system.pairs.j");
+  REQUIRE(!j.empty());
+  j[0] = s.integers("system.pairs.i").at(0);
+  s.put_integers("system.pairs.j", j);
+  CHECK_THROWS_WITH(resume_for_a_millisecond(s, "self.h5"), Catch::Contains("(pairs.i, pairs.j) pair particle") &&
+                                                               Catch::Contains("with itself"));
+}
+
 // Issue 28's review: a coordinate times 1e10 with fresh checksums (the adversary checksums cannot
 // see) resumed, and the heap observer crashed at the run's end. No scene places a particle beyond
 // 1e6 m; nor does a checkpoint now.

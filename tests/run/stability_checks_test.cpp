@@ -175,3 +175,19 @@ TEST_CASE("the maximum principle is checked at every step, so a sparse output ca
                              {assignment("dt", 1.0074 * limit), "t_end=4", "output_interval=4"}),
                     Catch::Contains("maximum principle"));
 }
+
+// Issue 28's review: a disc of stiffness 1e-140 N/m sinks through the floor, the overlap check
+// stops it, and the message "recommended dt <= 1.1e67 s" to a run of dt 1e-6: the step is within
+// the recommendation, and the message now says that the step is not the cause.
+TEST_CASE("a run stopped at a step within the recommended one is told the step is not the cause", "[checks]") {
+  const Scene soft = load_scene(testing::case_path("t1_free_fall.yaml"),
+                                {"materials.copper.stiffness=1e-140", "materials.wall.stiffness=1e-140"});
+  const StabilityEstimate est = estimate_stability(soft);
+  RunOptions o;
+  o.quiet = true;
+  o.estimate = &est;
+  CHECK_THROWS_WITH(run_scene(soft, o), Catch::Contains("overlap reached") &&
+                                            Catch::Contains("this dt is within what the stability estimate recommends") &&
+                                            Catch::Contains("so the step is not the cause") &&
+                                            !Catch::Contains("recommends dt <="));
+}
