@@ -32,6 +32,20 @@ const CLI::Validator positive_finite(
     },
     "POSITIVE");
 
+const CLI::Validator relative_tolerance(
+    [](std::string& text) {
+      if (std::string taken = option_taken_as_value(text); !taken.empty()) return taken;
+      try {
+        size_t used = 0;
+        const double v = std::stod(text, &used);
+        if (used == text.size() && v >= 1e-14 && v < 1) return std::string();
+      } catch (const std::exception&) {
+      }
+      return "must be a relative tolerance in [1e-14, 1) (below 1e-14 ARKODE cannot take a step in double "
+             "precision), got '" + text.substr(0, 60) + "'";
+    },
+    "RTOL");
+
 const CLI::Validator integrator_name(
     [](std::string& text) {
       if (std::string taken = option_taken_as_value(text); !taken.empty()) return taken;
@@ -67,7 +81,7 @@ void add_scene_options(CLI::App* cmd, SceneArgs& a) {
   cmd->add_option("--dt", a.dt, "time step (s)")->check(positive_finite);
   cmd->add_option("--t-end", a.t_end, "end time (s)")->check(positive_finite);
   cmd->add_option("--rtol", a.rtol, "relative tolerance: adaptive steps from --dt (erk:/imex: methods)")
-      ->check(positive_finite);
+      ->check(relative_tolerance);
   cmd->add_option("--atol", a.atol, "absolute tolerance (per field: --set atol.temperature=...)")
       ->check(positive_finite);
   cmd->add_flag("--contact-events", a.contact_events,

@@ -13,6 +13,9 @@ namespace kiln {
 // A time, a step or a tolerance: a positive finite number. CLI11's PositiveNumber accepts "nan"
 // (which then was ignored) and states its range as 300 digits.
 extern const CLI::Validator positive_finite;
+// A relative tolerance a scene takes, [1e-14, 1): a study's --rtols, checked before its runs (a
+// level of 1e-300 was a failed run in the table; issue 28's review).
+extern const CLI::Validator relative_tolerance;
 // An integrator's name (aliases included), refused at its option with the valid names nearest
 // first: a typo in --integrator was reported as "--set: key 'integrator'".
 extern const CLI::Validator integrator_name;

@@ -85,7 +85,7 @@ void add_reference_options(CLI::App* cli, Options& o, const char* references) {
                   "else position)");
   cli->add_option("--reference", o.reference, references);
   cli->add_option("--fine-rtol", o.fine_rtol, "tolerance of the fine reference (default 1e-11)")
-      ->check(positive_finite);
+      ->check(relative_tolerance);
 }
 
 }  // namespace
@@ -126,7 +126,7 @@ std::unique_ptr<Command> add_wp_command(CLI::App& app) {
   WorkPrecisionOptions& o = command->options();
   cli->add_option("--integrators", o.integrators, "comma-separated names")->required()->delimiter(',')->check(integrator_name);
   cli->add_option("--dts", o.dts, "fixed steps (s)")->delimiter(',')->check(positive_finite);
-  cli->add_option("--rtols", o.rtols, "tolerances (adaptive)")->delimiter(',')->check(positive_finite);
+  cli->add_option("--rtols", o.rtols, "tolerances (adaptive)")->delimiter(',')->check(relative_tolerance);
   add_reference_options(cli, o, "analytic | fine");
   cli->add_option("--repeats", o.repeats, "timed runs after a warm-up")->check(CLI::Range(1, 1000));
   return command;
@@ -147,7 +147,7 @@ std::unique_ptr<Command> add_recommend_command(CLI::App& app) {
   cli->add_option("--halvings", o.halvings, "steps probed per candidate, from 0.9 of its limit (default 6)")
       ->check(CLI::Range(1, 20));
   cli->add_option("--fine-rtol", o.fine_rtol, "tolerance of the fine reference (scenes without randomness)")
-      ->check(positive_finite);
+      ->check(relative_tolerance);
   return command;
 }
 

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "src/base/error.h"
+#include "src/base/text_format.h"
 
 namespace kiln {
 
@@ -176,7 +177,7 @@ class SnapshotFields {
     if constexpr (std::is_integral_v<T>) {
       if (!(x >= static_cast<double>(std::numeric_limits<T>::min()) &&
             x < std::ldexp(1.0, std::numeric_limits<T>::digits) && x == std::floor(x)))
-        throw Snapshot::layout_error(in_->source(), "holds " + std::to_string(x) + " in '" + prefix_ + key +
+        throw Snapshot::layout_error(in_->source(), "holds " + format("%g", x) + " in '" + prefix_ + key +
                                                         "' where a whole number belongs");
     }
     return static_cast<T>(x);

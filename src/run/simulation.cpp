@@ -555,6 +555,29 @@ void SceneRun::state(SnapshotFields& f) {
         std::isfinite(next_checkpoint) && next_checkpoint >= t_))
     throw Snapshot::layout_error(f.source(), "holds times a run cannot go on from (time, stage start, step, frame "
                                              "interval or next checkpoint)");
+  // Values that must agree with the time and the scene (issue 28's second review, each resumed
+  // into a wrong summary or an off-grid frame with fresh checksums): the stage's last frame at or
+  // before the time and its next after it; earlier resumptions in order and not after it; counts
+  // not negative; a freeze time only where the scene freezes, not after the time, and in the heat
+  // stage.
+  const double slack = 1e-6 * stage_interval_;
+  const bool frames_agree = stage_frame_ >= 0 && stage_frame_ == std::floor(stage_frame_) &&
+                            frame_time(stage_frame_) <= t_ + slack && frame_time(stage_frame_ + 1) > t_ - slack;
+  bool resumptions_agree = true;
+  for (size_t k = 0; k < resumed_at_.size(); ++k)
+    resumptions_agree = resumptions_agree && std::isfinite(resumed_at_[k]) && resumed_at_[k] >= 0 &&
+                        resumed_at_[k] <= t_ && (k == 0 || resumed_at_[k] >= resumed_at_[k - 1]);
+  const bool freezes = scene_.freeze.enabled || scene_.frozen;
+  const bool freeze_agrees = std::isnan(frozen_at_) ? stage != heat_stage || scene_.frozen
+                                                    : freezes && frozen_at_ >= 0 && frozen_at_ <= t_;
+  if (!frames_agree || !resumptions_agree || !freeze_agrees || total_steps_ < 0 || total_rhs_ < 0 ||
+      stage_steps_ < 0 || rhs < 0)
+    throw InputError(f.source() + ": the checkpoint holds " +
+                     (!frames_agree        ? "a stage frame ('stage.frame')"
+                      : !resumptions_agree ? "times of earlier resumptions ('resumed_at')"
+                      : !freeze_agrees     ? "a freeze time ('frozen_at')"
+                                           : "a negative count ('totals', 'stage.counts')") +
+                     " that disagrees with its own time and its scene: a changed checkpoint, refused");
   resumed_at_.push_back(t_);
   wall_before_ = wall;
   profile_.set_values(stages);  // the system's stages of earlier segments counted here
@@ -590,14 +613,34 @@ void SceneRun::resume(const Snapshot& s) {
   // Places no scene could give, beyond 1e6 m from the origin along an axis that is not periodic
   // (there the state keeps unwrapped positions): a coordinate times 1e10 with fresh checksums
   // was resumed and crashed the heap observer at the run's end.
+  // Along a periodic axis the unwrapped coordinate may travel, but not beyond 1e9 m (a micrometre
+  // of resolution left: 1e300 could no longer move). A wall body's coordinate as a particle's
+  // (issue 28's second review: both were resumed).
+  const auto reach = [&](bool periodic) { return periodic ? 1e9 : farthest_coordinate; };
   for (int i = 0; i < system_.particles(); ++i) {
     const double x = y_[system_.x_at() + i], y = y_[system_.y_at() + i];
-    if ((!scene_.periodic.x && !(std::abs(x) <= farthest_coordinate)) ||
-        (!scene_.periodic.y && !(std::abs(y) <= farthest_coordinate)))
+    if (!(std::abs(x) <= reach(scene_.periodic.x)) || !(std::abs(y) <= reach(scene_.periodic.y)))
       throw InputError(s.source() + ": the checkpoint places particle " + std::to_string(i) + " at (" +
-                       format("%g, %g", x, y) + ") m in 'state', beyond 1e6 m from the origin, where no scene can "
-                       "place one: refused");
+                       format("%g, %g", x, y) + ") m in 'state', beyond 1e6 m from the origin (1e9 m along a "
+                       "periodic axis), where no run can take one: refused");
   }
+  // And no speed beyond light's, as a scene's (a disc's 1e300 m/s pushed a lid to -3.9e297 m).
+  for (int i = 0; i < system_.particles(); ++i) {
+    const double v = std::hypot(y_[system_.vx_at() + i], y_[system_.vy_at() + i]);
+    const double rim = system_.omega_at() < 0 ? 0.0 : std::abs(y_[system_.omega_at() + i]) * system_.radius(i);
+    if (!(v <= speed_of_light) || !(rim <= speed_of_light))
+      throw InputError(s.source() + ": the checkpoint gives particle " + std::to_string(i) + " a speed of " +
+                       format("%g", std::max(v, rim)) + " m/s in 'state' (its velocity or its rim's), faster than "
+                       "light: refused");
+  }
+  for (int b = 0; b < system_.bodies(); ++b)
+    if (!(std::abs(y_[system_.body_speed_at() + b]) <= speed_of_light))
+      throw InputError(s.source() + ": the checkpoint gives a wall body a speed of " +
+                       format("%g", y_[system_.body_speed_at() + b]) + " m/s in 'state', faster than light: refused");
+  for (int b = 0; b < system_.bodies(); ++b)
+    if (!(std::abs(y_[system_.body_at() + b]) <= farthest_coordinate))
+      throw InputError(s.source() + ": the checkpoint moves a wall body by " + format("%g", y_[system_.body_at() + b]) +
+                       " m in 'state', beyond 1e6 m, where no run can take one: refused");
   // At t_end, a run that was not published (its output failed, or it was killed publishing) is
   // resumed to publish it.
   const bool published = options_.out_dir.empty() || RunOutputs::published(options_.out_dir, run_id_, t);

@@ -47,8 +47,21 @@ ImpactSpeeds impact_speeds(const Scene& scene) {
     hi = std::max({hi, dot(s.a, down), dot(s.b, down)});
   }
   double wall_speed = 0;
-  for (size_t w = 0; w < scene.walls.size(); ++w)
-    wall_speed = std::max(wall_speed, scene.walls[w].motion.largest_speed(scene.segments, static_cast<int>(w)));
+  for (size_t w = 0; w < scene.walls.size(); ++w) {
+    const WallMotion& motion = scene.walls[w].motion;
+    wall_speed = std::max(wall_speed, motion.largest_speed(scene.segments, static_cast<int>(w)));
+    // A load-controlled wall also falls along its load, at most across the scene, as a disc falls
+    // under gravity: a load of 1e300 N passed check and the run died of NaN blaming dt (issue 28's
+    // review).
+    const double load = speed(motion.load);
+    if (motion.kind != WallMotion::Kind::load_controlled || !(load > 0)) continue;
+    const Vec2 along = {motion.load.x / load, motion.load.y / load};
+    double first = INFINITY, last = -INFINITY;
+    for (const Vec2 p : scene.position) first = std::min(first, dot(p, along)), last = std::max(last, dot(p, along));
+    for (const Segment& seg : scene.segments)
+      first = std::min({first, dot(seg.a, along), dot(seg.b, along)}), last = std::max({last, dot(seg.a, along), dot(seg.b, along)});
+    wall_speed = std::max(wall_speed, std::sqrt(2 * (load / motion.mass)) * std::sqrt(std::max(0.0, last - first)));
+  }
   // Gravity speeds every disc up alike: it adds to an impact only against a wall, and against a
   // disc that a wall threw back. Without walls discs meet at their initial speeds.
   const bool walls = !scene.segments.empty();

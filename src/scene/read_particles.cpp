@@ -14,8 +14,6 @@ namespace kiln::scene_parts {
 
 namespace {
 
-constexpr double speed_of_light = 299792458;  // m/s
-
 RadiusDistribution read_radius(const SceneNode& node) {
   if (node.is_map()) {
     node.allow();
@@ -192,6 +190,19 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
     if (scene.thermal != thermal_set && !scene.position.empty())
       ps.fail("either every particle set gives a temperature (a thermal scene) or none does");
     scene.thermal = thermal_set;
+    // Its heat capacity too: a mass of 1e-285 kg (a normal double) times a specific heat of 1e-20
+    // is subnormal, and the estimate said the scene's constants "overflow", naming none (issue 28's
+    // review).
+    if (thermal_set && !placed.radius.empty()) {
+      const double r = *std::min_element(placed.radius.begin(), placed.radius.end());
+      const Material& material = scene.materials[mat];
+      const double c = disc_mass(scene, r, material.density) * material.specific_heat;
+      if (material.specific_heat > 0 && !(c >= DBL_MIN))
+        ps["material"].fail(format("this set's smallest disc (radius %g m) has a heat capacity of %g J/K (density %g "
+                                   "kg/m^3 x specific heat %g J/(kg K)): it must be at least %g (the smallest normal "
+                                   "double), or its heating rates overflow; raise the density or the specific heat",
+                                   r, c, material.density, material.specific_heat, DBL_MIN));
+    }
     sets.first.push_back(scene.n_particles());
     if (ps.has("attach") && ps.has("fixed")) ps.fail("give one of 'attach' (a wall's name) or 'fixed', not both");
     // An attached or fixed particle moves with its wall: a velocity of its own would not be read.

@@ -82,17 +82,21 @@ void read_stepping(const SceneNode& root, Scene& scene) {
   // Below 1e-14 no integrator can meet the tolerance in double precision: ARKODE fails its steps.
   if (auto r = root.optional("rtol")) scene.control.rtol = r->in_range(1e-14, 1, false, true);
   // atol: a number for every component, or per field {position, velocity, angle, temperature, other}.
+  // At least 1e-20 (SI units): a component at rest (a velocity or an angle of 0) is held to atol
+  // alone, and below what double precision resolves no step passes (atol 1e-100 failed at t = 0
+  // blaming dt; 1e-300 with rtol 1e-14 took steps of 5e-14 s for ever: issue 28's review).
+  const auto absolute = [](const SceneNode& n) { return n.in_range(1e-20, HUGE_VAL, false, true); };
   if (auto a = root.optional("atol")) {
     if (a->is_map()) {
       a->allow();
-      auto field = [&](const char* key, double fallback) { return a->has(key) ? (*a)[key].positive() : fallback; };
+      auto field = [&](const char* key, double fallback) { return a->has(key) ? absolute((*a)[key]) : fallback; };
       scene.control.atol = field("other", 0);
       scene.control.atol_position = field("position", NAN);
       scene.control.atol_velocity = field("velocity", NAN);
       scene.control.atol_angle = field("angle", NAN);
       scene.control.atol_temperature = field("temperature", NAN);
     } else {
-      scene.control.atol = a->positive();
+      scene.control.atol = absolute(*a);
     }
   }
   // Whether the integrator can adapt or locate events is checked where it is made (make_integrator).
@@ -124,6 +128,13 @@ void read_stepping(const SceneNode& root, Scene& scene) {
                               : ", or a longer output_interval (" + describe(interval.location()) + ")"));
     interval.fail(count + format("; give at least %g s", scene.t_end / max_frames));
   }
+  // The heating's frames likewise (freeze.output_interval: 1e-300 wrote a frame every step, 150 MB
+  // a minute: issue 28's review).
+  if (scene.freeze.enabled && scene.freeze.output_interval > 0 && scene.t_end / scene.freeze.output_interval > max_frames)
+    root["freeze"]["output_interval"].fail(
+        format("t_end / freeze.output_interval = %g s / %g s = %.3g frames, more than the limit of %.0e; give at least %g s",
+               scene.t_end, scene.freeze.output_interval, scene.t_end / scene.freeze.output_interval, max_frames,
+               scene.t_end / max_frames));
 }
 
 // The run's own checks and its early stop.

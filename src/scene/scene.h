@@ -22,6 +22,9 @@ namespace kiln {
 // float boxes of the neighbour search.
 inline constexpr double shortest_length = 1e-9;
 inline constexpr double farthest_coordinate = 1e6;
+// No grain or wall body moves faster than light (m/s): a bound no physical scene meets, far below
+// where a kinetic energy overflows.
+inline constexpr double speed_of_light = 299792458;
 // Frames (output_interval) and checkpoints (--checkpoint-every) of one run, at most: an interval
 // below an ulp of the time never advanced (1e-300 s looped for ever), and a million frames of even
 // a small scene are gigabytes.

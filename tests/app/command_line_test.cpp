@@ -105,3 +105,15 @@ TEST_CASE("a file-size limit is a full disk: the run keeps its finished work and
   CHECK(has(output, "File too large; kept:"));
   CHECK(std::filesystem::exists(dir / "run" / "checkpoint.h5"));
 }
+
+TEST_CASE("a study's tolerances below 1e-14 or from 1 up are refused before its runs", "[errors]") {
+  const auto dir = kiln::testing::fresh_dir("command_line_rtols");
+  std::filesystem::create_directories(dir);
+  // Issue 28's second review: `wp --rtols 1e-3,1e-300` ran, the level a failed run in its table.
+  const auto out = kiln::testing::run_kiln_command("wp " + kiln::testing::case_path("harmonic_contact_pair.yaml") +
+                                                       " --integrators erk4 --rtols 1e-3,1e-300 --out " + (dir / "wp").string(),
+                                                   dir / "log");
+  CHECK(out.status == 2);
+  CHECK(has(out.output, "--rtols: must be a relative tolerance in [1e-14, 1)"));
+  CHECK_FALSE(std::filesystem::exists(dir / "wp"));
+}

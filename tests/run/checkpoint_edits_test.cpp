@@ -154,6 +154,38 @@ TEST_CASE("a checkpoint contact that pairs a particle with itself is refused, na
                                                                Catch::Contains("with itself"));
 }
 
+// Issue 28's second review: values a checkpoint gives that disagree with its own time and scene
+// (fresh checksums) were resumed into an off-grid frame, a wrong summary, or a disc at 1e300 m/s.
+TEST_CASE("a checkpoint whose stage frame, resumptions, freeze time, counts or speeds disagree with it is refused",
+          "[checkpoint][hostile]") {
+  using namespace kiln::fuzz::checkpoint_detail;
+  const auto edited = [&](const std::string& key, auto value) {
+    kiln::Snapshot s = base(cases_dir);
+    if constexpr (std::is_same_v<decltype(value), std::vector<double>>)
+      s.put(key, value);
+    else
+      s.put_integers(key, value);
+    return s;
+  };
+  const kiln::Snapshot& b = base(cases_dir);
+  const double t = b.real("time");
+  CHECK_THROWS_WITH(resume_for_a_millisecond(edited("stage.frame", std::vector<double>{1.0}), "frame.h5"),
+                    Catch::Contains("'stage.frame'"));
+  CHECK_THROWS_WITH(resume_for_a_millisecond(edited("resumed_at", std::vector<double>{0.01, NAN}), "resumed.h5"),
+                    Catch::Contains("'resumed_at'"));
+  CHECK_THROWS_WITH(resume_for_a_millisecond(edited("frozen_at", std::vector<double>{0.5 * t}), "frozen.h5"),
+                    Catch::Contains("'frozen_at'"));
+  CHECK_THROWS_WITH(resume_for_a_millisecond(edited("totals", std::vector<long long>{-5, 1}), "totals.h5"),
+                    Catch::Contains("a negative count"));
+  std::vector<double> state = b.reals("state");
+  kiln::Snapshot fast = b;
+  kiln::SceneRecord record;
+  const kiln::Scene drum = kiln::scene_of_checkpoint(b, {}, record);
+  state[3 * drum.n_particles()] = 1e300;  // particle 0's vx (x, y and angle come first)
+  fast.put("state", state);
+  CHECK_THROWS_WITH(resume_for_a_millisecond(fast, "fast.h5"), Catch::Contains("faster than light"));
+}
+
 // Issue 28's review: a coordinate times 1e10 with fresh checksums (the adversary checksums cannot
 // see) resumed, and the heap observer crashed at the run's end. No scene places a particle beyond
 // 1e6 m; nor does a checkpoint now.

@@ -39,7 +39,7 @@ struct Outcome {
 // with SIGXFSZ ignored: a write past it fails with EFBIG, as a write to a full disk fails with
 // ENOSPC). With `send`, the signal goes to kiln once `ready()` holds.
 Outcome run_kiln(const std::vector<std::string>& args, long file_limit = 0, int send = 0,
-                 const std::function<bool()>& ready = {}) {
+                 const std::function<bool()>& ready = {}, int times = 1) {
   static int calls = 0;  // one file per call: a call may run inside another's wait
   const fs::path err_file =
       fs::temp_directory_path() / ("kiln_stderr_" + std::to_string(::getpid()) + "_" + std::to_string(++calls));
@@ -68,7 +68,7 @@ Outcome run_kiln(const std::vector<std::string>& args, long file_limit = 0, int 
     const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(60);
     while (waitpid(pid, &status, WNOHANG) == 0) {
       if (ready() || std::chrono::steady_clock::now() > give_up) {
-        kill(pid, send);
+        for (int k = 0; k < times; ++k) kill(pid, send);  // `times` at once: as GNU timeout signals
         break;
       }
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -286,6 +286,18 @@ TEST_CASE("SIGTERM stops a run with its frames, summary and checkpoint, exit 143
   REQUIRE(r.exit_code == 0);
   CHECK(same_bits(frames_of(whole / "result.h5"), frames_of(dir / "result.h5")));
   fs::remove_all(whole);
+  fs::remove_all(dir);
+}
+
+// Issue 28's review: GNU timeout sends SIGTERM to kiln and then to its process group, microseconds
+// apart; that was taken as a second signal, and the run ended unpublished in 2 of 4 tries.
+TEST_CASE("two SIGTERMs within a second are one request: the run still publishes, exit 143", "[signal]") {
+  const fs::path dir = testing::fresh_dir("term_twice");
+  const Outcome o = run_kiln({"run", drum, "--t-end", "0.5", "--quiet", "--out", dir.string()}, 0, SIGTERM,
+                             [&] { return fs::exists(dir / "result.h5.tmp"); }, 2);
+  REQUIRE(o.exit_code == 143);
+  CHECK(summary_of(dir)["stopped_early"] == "signal");
+  CHECK(fs::exists(dir / "checkpoint.h5"));
   fs::remove_all(dir);
 }
 

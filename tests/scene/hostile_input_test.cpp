@@ -783,3 +783,24 @@ TEST_CASE("a circle whose tolerance exceeds half its radius is refused naming bo
   CHECK(has(error_of(ring, {"walls.0.tolerance=1e300"}), "the tolerance (1e+300 m) is above half the radius (0.1 m)"));
   CHECK(has(error_of(ring, {"walls.0.circle.radius=1e-9"}), "key 'walls.0.circle'"));
 }
+
+// Issue 28's second review, each through a key the first fixes did not cover: atol 1e-100 failed at
+// t = 0 blaming dt (1e-300 with rtol 1e-14 took steps of 5e-14 s for ever); freeze.output_interval
+// 1e-300 wrote a frame every heating step; a mass x specific heat that is subnormal was "overflow";
+// a load-controlled wall's load of 1e300 N passed check, and the run died blaming dt.
+TEST_CASE("an atol, a heating frame interval, a heat capacity or a wall load beyond double's reach is refused at check",
+          "[hostile]") {
+  CHECK(has(error_of(scene, {"integrator=erk5", "rtol=1e-3", "atol=1e-100"}), "key 'atol': expected a value in [1e-20"));
+  CHECK(has(error_of(scene, {"integrator=erk5", "rtol=1e-3", "atol={velocity: 1e-300}"}), "key 'atol.velocity'"));
+  CHECK(error_of(scene, {"integrator=erk5", "rtol=1e-3", "atol=1e-20"}).empty());
+  CHECK_THROWS_WITH(load_scene(testing::case_path("f3_container_heating.yaml"), {"freeze.output_interval=1e-300"}),
+                    Catch::Contains("key 'freeze.output_interval': t_end / freeze.output_interval"));
+  CHECK_THROWS_WITH(load_scene(testing::case_path("t4_two_particle_conduction.yaml"),
+                               {"materials.copper.density=1e-291", "materials.copper.specific_heat=1e-20"}),
+                    Catch::Contains("key 'particles.0.material'") && Catch::Contains("heat capacity"));
+  const Scene n3 = load_scene(testing::case_path("n3_shear_cell.yaml"));
+  CHECK_FALSE(verdict_of(n3).unstable);
+  const DtVerdict loaded = verdict_of(load_scene(testing::case_path("n3_shear_cell.yaml"), {"walls.1.motion.load=[0, -1e20]"}));
+  REQUIRE(loaded.unstable);
+  CHECK(has(loaded.warnings.at(0), "dt x impact speed"));
+}
