@@ -73,7 +73,10 @@ void H5Frames::check_kept_frames(int keep, double resumed_at) const {
   if (space >= 0) H5Sclose(space);
   H5Dclose(ds);
   h5_check(status, "read dataset 'time' of", path_);
-  const bool last_before = keep == 0 || (count >= static_cast<hsize_t>(keep) && times[keep - 1] <= resumed_at);
+  if (count < static_cast<hsize_t>(keep))
+    throw InputError(path_ + ": holds " + std::to_string(count) + " frames where the checkpoint counts " +
+                     std::to_string(keep) + ": a result of another run, or frames lost");
+  const bool last_before = keep == 0 || times[keep - 1] <= resumed_at;
   // A frame at the checkpoint's own time may follow it (a stop at a frame's time checkpoints first).
   const bool next_after = count <= static_cast<hsize_t>(keep) || times[keep] >= resumed_at;
   if (!last_before || !next_after)
