@@ -17,34 +17,30 @@ std::string option_taken_as_value(const std::string& text) {
                                         "' as a value: the list before it holds no item (give comma-separated values)"
                                   : std::string();
 }
+
+// A number option: the whole text a number that `accepts` takes, else "must be <expected>".
+CLI::Validator number_option(bool (*accepts)(double), const std::string& expected, const std::string& name) {
+  return CLI::Validator(
+      [accepts, expected](std::string& text) {
+        if (std::string taken = option_taken_as_value(text); !taken.empty()) return taken;
+        try {
+          size_t used = 0;
+          const double v = std::stod(text, &used);
+          if (used == text.size() && accepts(v)) return std::string();
+        } catch (const std::exception&) {
+        }
+        return "must be " + expected + ", got '" + text.substr(0, 60) + "'";
+      },
+      name);
+}
 }  // namespace
 
-const CLI::Validator positive_finite(
-    [](std::string& text) {
-      if (std::string taken = option_taken_as_value(text); !taken.empty()) return taken;
-      try {
-        size_t used = 0;
-        const double v = std::stod(text, &used);
-        if (used == text.size() && std::isfinite(v) && v > 0) return std::string();
-      } catch (const std::exception&) {
-      }
-      return "must be a positive finite number, got '" + text.substr(0, 60) + "'";
-    },
-    "POSITIVE");
+const CLI::Validator positive_finite =
+    number_option([](double v) { return std::isfinite(v) && v > 0; }, "a positive finite number", "POSITIVE");
 
-const CLI::Validator relative_tolerance(
-    [](std::string& text) {
-      if (std::string taken = option_taken_as_value(text); !taken.empty()) return taken;
-      try {
-        size_t used = 0;
-        const double v = std::stod(text, &used);
-        if (used == text.size() && v >= 1e-14 && v < 1) return std::string();
-      } catch (const std::exception&) {
-      }
-      return "must be a relative tolerance in [1e-14, 1) (below 1e-14 ARKODE cannot take a step in double "
-             "precision), got '" + text.substr(0, 60) + "'";
-    },
-    "RTOL");
+const CLI::Validator relative_tolerance = number_option(
+    [](double v) { return v >= 1e-14 && v < 1; },
+    "a relative tolerance in [1e-14, 1) (below 1e-14 ARKODE cannot take a step in double precision)", "RTOL");
 
 const CLI::Validator integrator_name(
     [](std::string& text) {

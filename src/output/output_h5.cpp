@@ -60,19 +60,17 @@ void H5Frames::check_kept_frames(int keep, double resumed_at) const {
   hsize_t stored = 0;
   const bool one_axis = space >= 0 && H5Sget_simple_extent_ndims(space) == 1 &&
                         H5Sget_simple_extent_dims(space, &stored, nullptr) == 1;
-  const hsize_t count = std::min<hsize_t>(stored, static_cast<hsize_t>(keep) + 1);
-  std::vector<double> times(count);
-  herr_t status = one_axis ? 0 : -1;
-  if (status >= 0 && count > 0) {
-    const hsize_t start = 0;
-    const hid_t memory = H5Screate_simple(1, &count, nullptr);
-    status = memory < 0 ? -1 : H5Sselect_hyperslab(space, H5S_SELECT_SET, &start, nullptr, &count, nullptr);
-    if (status >= 0) status = H5Dread(ds, H5T_NATIVE_DOUBLE, memory, space, H5P_DEFAULT, times.data());
-    if (memory >= 0) H5Sclose(memory);
-  }
   if (space >= 0) H5Sclose(space);
+  const hsize_t count = std::min<hsize_t>(stored, static_cast<hsize_t>(keep) + 1);
+  std::vector<double> times;
+  try {
+    if (!one_axis) h5_check(-1, "read dataset 'time' of", path_);
+    times = read_rows(ds, shape(frame_field(FrameField::time)), count);
+  } catch (...) {
+    H5Dclose(ds);
+    throw;
+  }
   H5Dclose(ds);
-  h5_check(status, "read dataset 'time' of", path_);
   if (count < static_cast<hsize_t>(keep))
     throw InputError(path_ + ": holds " + std::to_string(count) + " frames where the checkpoint counts " +
                      std::to_string(keep) + ": a result of another run, or frames lost");
@@ -277,13 +275,17 @@ std::vector<double> H5Frames::read(FrameField field) const {
   const FrameFieldInfo& f = frame_field(field);
   const hid_t ds = ds_[static_cast<int>(field)];
   if (ds < 0) throw std::logic_error(std::string("read '") + f.name + "', which this result does not hold");
-  const Shape s = shape(f);
-  const hsize_t start[3] = {0, 0, 0}, count[3] = {static_cast<hsize_t>(frames_), s.dims[0], s.dims[1]};
+  return read_rows(ds, shape(f), static_cast<hsize_t>(frames_));
+}
+
+// The first `rows` frames of dataset `ds` of shape `s`, row-major.
+std::vector<double> H5Frames::read_rows(hid_t ds, const Shape& s, hsize_t rows) const {
+  const hsize_t start[3] = {0, 0, 0}, count[3] = {rows, s.dims[0], s.dims[1]};
   hsize_t values = count[0];
   for (int k = 0; k < s.rank; ++k) values *= count[k + 1];
   std::vector<double> v(values);
   if (values == 0) return v;
-  const std::string what = std::string("read '") + f.name + "' of";
+  const std::string what = std::string("read '") + s.name + "' of";
   const hid_t file_space = h5_id(H5Dget_space(ds), what.c_str(), path_);
   const hid_t mem_space = H5Screate_simple(s.rank + 1, count, nullptr);
   herr_t status = mem_space < 0 ? -1 : H5Sselect_hyperslab(file_space, H5S_SELECT_SET, start, nullptr, count, nullptr);

@@ -105,6 +105,7 @@ class H5Frames {
   };
   bool present(const FrameFieldInfo& f) const;
   Shape shape(const FrameFieldInfo& f) const;
+  std::vector<double> read_rows(hid_t ds, const Shape& s, hsize_t rows) const;
   hid_t create(const Shape& s);
   hid_t open(const Shape& s, int keep);
   void drop_frame_views(int keep);  // those of the frames after `keep`

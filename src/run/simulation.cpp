@@ -610,12 +610,11 @@ void SceneRun::resume(const Snapshot& s) {
                      std::to_string(y_.size()));
   SnapshotFields fields(s, "");
   state(fields);
-  // Places no scene could give, beyond 1e6 m from the origin along an axis that is not periodic
-  // (there the state keeps unwrapped positions): a coordinate times 1e10 with fresh checksums
-  // was resumed and crashed the heap observer at the run's end.
-  // Along a periodic axis the unwrapped coordinate may travel, but not beyond 1e9 m (a micrometre
-  // of resolution left: 1e300 could no longer move). A wall body's coordinate as a particle's
-  // (issue 28's second review: both were resumed).
+  // Places and speeds no run can reach, refused: beyond 1e6 m from the origin along an axis that
+  // is not periodic (a coordinate times 1e10 with fresh checksums was resumed and crashed the heap
+  // observer), beyond 1e9 m along a periodic one, where the state keeps unwrapped positions (a
+  // micrometre of resolution left: 1e300 could no longer move), and faster than light, for
+  // particles, their rims and wall bodies alike (issue 28's reviews: each was resumed).
   const auto reach = [&](bool periodic) { return periodic ? 1e9 : farthest_coordinate; };
   for (int i = 0; i < system_.particles(); ++i) {
     const double x = y_[system_.x_at() + i], y = y_[system_.y_at() + i];
@@ -623,9 +622,6 @@ void SceneRun::resume(const Snapshot& s) {
       throw InputError(s.source() + ": the checkpoint places particle " + std::to_string(i) + " at (" +
                        format("%g, %g", x, y) + ") m in 'state', beyond 1e6 m from the origin (1e9 m along a "
                        "periodic axis), where no run can take one: refused");
-  }
-  // And no speed beyond light's, as a scene's (a disc's 1e300 m/s pushed a lid to -3.9e297 m).
-  for (int i = 0; i < system_.particles(); ++i) {
     const double v = std::hypot(y_[system_.vx_at() + i], y_[system_.vy_at() + i]);
     const double rim = system_.omega_at() < 0 ? 0.0 : std::abs(y_[system_.omega_at() + i]) * system_.radius(i);
     if (!(v <= speed_of_light) || !(rim <= speed_of_light))
@@ -633,14 +629,12 @@ void SceneRun::resume(const Snapshot& s) {
                        format("%g", std::max(v, rim)) + " m/s in 'state' (its velocity or its rim's), faster than "
                        "light: refused");
   }
-  for (int b = 0; b < system_.bodies(); ++b)
-    if (!(std::abs(y_[system_.body_speed_at() + b]) <= speed_of_light))
-      throw InputError(s.source() + ": the checkpoint gives a wall body a speed of " +
-                       format("%g", y_[system_.body_speed_at() + b]) + " m/s in 'state', faster than light: refused");
-  for (int b = 0; b < system_.bodies(); ++b)
-    if (!(std::abs(y_[system_.body_at() + b]) <= farthest_coordinate))
-      throw InputError(s.source() + ": the checkpoint moves a wall body by " + format("%g", y_[system_.body_at() + b]) +
-                       " m in 'state', beyond 1e6 m, where no run can take one: refused");
+  for (int b = 0; b < system_.bodies(); ++b) {
+    const double at = y_[system_.body_at() + b], speed = y_[system_.body_speed_at() + b];
+    if (!(std::abs(at) <= farthest_coordinate) || !(std::abs(speed) <= speed_of_light))
+      throw InputError(s.source() + ": the checkpoint moves a wall body by " + format("%g", at) + " m at " +
+                       format("%g", speed) + " m/s in 'state', beyond 1e6 m or faster than light: refused");
+  }
   // At t_end, a run that was not published (its output failed, or it was killed publishing) is
   // resumed to publish it.
   const bool published = options_.out_dir.empty() || RunOutputs::published(options_.out_dir, run_id_, t);

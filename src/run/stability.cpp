@@ -24,7 +24,7 @@ namespace {
 // The highest speeds at which a disc can meet a wall and another disc: a disc moves at most at its
 // largest initial speed (random_velocity included) plus, with walls, a free fall over the scene's
 // height along g plus the largest speed of a moving wall (a wall pushes it: WallMotion::largest_speed, a
-// load-controlled wall's driven speed included), and two discs can approach each other at twice
+// load-controlled wall's driven speed included, and its fall along its load), and two discs can approach each other at twice
 // that. Speeds are taken with hypot, which does not overflow below 1.8e308; a bound that is still
 // not finite (speeds or g near the largest double) is refused by judge_dt.
 struct ImpactSpeeds {
@@ -33,19 +33,20 @@ struct ImpactSpeeds {
 
 double speed(Vec2 v) { return std::hypot(v.x, v.y); }
 
+// How far the scene (its particles and wall segments) extends along the unit direction `along` (m).
+double extent_along(const Scene& scene, Vec2 along) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (const Vec2 p : scene.position) lo = std::min(lo, dot(p, along)), hi = std::max(hi, dot(p, along));
+  for (const Segment& s : scene.segments)
+    lo = std::min({lo, dot(s.a, along), dot(s.b, along)}), hi = std::max({hi, dot(s.a, along), dot(s.b, along)});
+  return std::max(0.0, hi - lo);
+}
+
 ImpactSpeeds impact_speeds(const Scene& scene) {
   const double g = speed(scene.gravity);
   const Vec2 down = g > 0 ? Vec2{scene.gravity.x / g, scene.gravity.y / g} : Vec2{0, -1};
-  double lo = INFINITY, hi = -INFINITY, v0 = 0;
-  for (int i = 0; i < scene.n_particles(); ++i) {
-    lo = std::min(lo, dot(scene.position[i], down));
-    hi = std::max(hi, dot(scene.position[i], down));
-    v0 = std::max(v0, speed(scene.velocity[i]));
-  }
-  for (const Segment& s : scene.segments) {
-    lo = std::min({lo, dot(s.a, down), dot(s.b, down)});
-    hi = std::max({hi, dot(s.a, down), dot(s.b, down)});
-  }
+  double v0 = 0;
+  for (const Vec2 v : scene.velocity) v0 = std::max(v0, speed(v));
   double wall_speed = 0;
   for (size_t w = 0; w < scene.walls.size(); ++w) {
     const WallMotion& motion = scene.walls[w].motion;
@@ -55,17 +56,13 @@ ImpactSpeeds impact_speeds(const Scene& scene) {
     // review).
     const double load = speed(motion.load);
     if (motion.kind != WallMotion::Kind::load_controlled || !(load > 0)) continue;
-    const Vec2 along = {motion.load.x / load, motion.load.y / load};
-    double first = INFINITY, last = -INFINITY;
-    for (const Vec2 p : scene.position) first = std::min(first, dot(p, along)), last = std::max(last, dot(p, along));
-    for (const Segment& seg : scene.segments)
-      first = std::min({first, dot(seg.a, along), dot(seg.b, along)}), last = std::max({last, dot(seg.a, along), dot(seg.b, along)});
-    wall_speed = std::max(wall_speed, std::sqrt(2 * (load / motion.mass)) * std::sqrt(std::max(0.0, last - first)));
+    const double span = extent_along(scene, {motion.load.x / load, motion.load.y / load});
+    wall_speed = std::max(wall_speed, std::sqrt(2 * (load / motion.mass)) * std::sqrt(span));
   }
   // Gravity speeds every disc up alike: it adds to an impact only against a wall, and against a
   // disc that a wall threw back. Without walls discs meet at their initial speeds.
   const bool walls = !scene.segments.empty();
-  const double fall = walls ? std::sqrt(2 * g) * std::sqrt(std::max(0.0, hi - lo)) : 0.0;
+  const double fall = walls ? std::sqrt(2 * g) * std::sqrt(extent_along(scene, down)) : 0.0;
   const double disc = v0 + fall + wall_speed;
   return {std::max(disc, 1e-3), std::max(2 * disc, 1e-3)};
 }

@@ -152,15 +152,24 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
     const Placement placed = read_placement(ps, scene, claim, file ? &*file : nullptr);
     // The lightest disc's mass and moment of inertia must be normal numbers: a density of 1e-300
     // passed every range, and the run divided by a subnormal mass, died of NaN and blamed dt
-    // (issue 28's campaign).
+    // (issue 28's campaign). Its heat capacity too, in a heated set: a mass of 1e-285 kg times a
+    // specific heat of 1e-20 is subnormal, and the estimate said the scene's constants
+    // "overflow", naming none (issue 28's review).
     if (!placed.radius.empty()) {
       const double r = *std::min_element(placed.radius.begin(), placed.radius.end());
-      const double density = scene.materials[mat].density, m = disc_mass(scene, r, density);
+      const Material& material = scene.materials[mat];
+      const double density = material.density, m = disc_mass(scene, r, density);
       if (!(m >= DBL_MIN) || !(disc_inertia(scene, m, r) >= DBL_MIN))
         ps["material"].fail(format("this set's smallest disc (radius %g m, density %g kg/m^3) has a mass of %g kg: its "
                                    "mass and moment of inertia must be at least %g (the smallest normal double), or "
                                    "its accelerations overflow; raise the density",
                                    r, density, m, DBL_MIN));
+      const double c = m * material.specific_heat;
+      if ((ps.has("temperature") || file_temperatures) && material.specific_heat > 0 && !(c >= DBL_MIN))
+        ps["material"].fail(format("this set's smallest disc (radius %g m) has a heat capacity of %g J/K (density %g "
+                                   "kg/m^3 x specific heat %g J/(kg K)): it must be at least %g (the smallest normal "
+                                   "double), or its heating rates overflow; raise the density or the specific heat",
+                                   r, c, density, material.specific_heat, DBL_MIN));
     }
     for (size_t k = 0; k < placed.position.size(); ++k)
       if (!within_reach(placed.position[k]))
@@ -190,19 +199,6 @@ void read_particles(const SceneNode& root, Scene& scene, const MaterialIndex& in
     if (scene.thermal != thermal_set && !scene.position.empty())
       ps.fail("either every particle set gives a temperature (a thermal scene) or none does");
     scene.thermal = thermal_set;
-    // Its heat capacity too: a mass of 1e-285 kg (a normal double) times a specific heat of 1e-20
-    // is subnormal, and the estimate said the scene's constants "overflow", naming none (issue 28's
-    // review).
-    if (thermal_set && !placed.radius.empty()) {
-      const double r = *std::min_element(placed.radius.begin(), placed.radius.end());
-      const Material& material = scene.materials[mat];
-      const double c = disc_mass(scene, r, material.density) * material.specific_heat;
-      if (material.specific_heat > 0 && !(c >= DBL_MIN))
-        ps["material"].fail(format("this set's smallest disc (radius %g m) has a heat capacity of %g J/K (density %g "
-                                   "kg/m^3 x specific heat %g J/(kg K)): it must be at least %g (the smallest normal "
-                                   "double), or its heating rates overflow; raise the density or the specific heat",
-                                   r, c, material.density, material.specific_heat, DBL_MIN));
-    }
     sets.first.push_back(scene.n_particles());
     if (ps.has("attach") && ps.has("fixed")) ps.fail("give one of 'attach' (a wall's name) or 'fixed', not both");
     // An attached or fixed particle moves with its wall: a velocity of its own would not be read.

@@ -116,10 +116,13 @@ void read_stepping(const SceneNode& root, Scene& scene) {
   // 1e-300 s was accepted: a frame at every step, 196 MB for 0.02 s of T3. The count is blamed on
   // t_end when the command line gave it: `--t-end 1e300` over a scene's interval (or a resumed
   // run's) was blamed on the interval.
+  const auto frame_count = [&](const char* key, double interval) {
+    return format("t_end / %s = %g s / %g s = %.3g frames, more than the limit of %.0e", key, scene.t_end, interval,
+                  scene.t_end / interval, max_frames);
+  };
   if (scene.t_end / scene.output_interval > max_frames) {
     const SceneNode interval = root["output_interval"];  // given: t_end / 100 frames cannot exceed the limit
-    const std::string count = format("t_end / output_interval = %g s / %g s = %.3g frames, more than the limit of %.0e",
-                                     scene.t_end, scene.output_interval, scene.t_end / scene.output_interval, max_frames);
+    const std::string count = frame_count("output_interval", scene.output_interval);
     // A resumed run's interval is the checkpoint's, given as --set too: there only t_end can change.
     if (scene.t_end_at.file == "--set")
       root["t_end"].fail(count + format("; give at most %g s", scene.output_interval * max_frames) +
@@ -131,10 +134,8 @@ void read_stepping(const SceneNode& root, Scene& scene) {
   // The heating's frames likewise (freeze.output_interval: 1e-300 wrote a frame every step, 150 MB
   // a minute: issue 28's review).
   if (scene.freeze.enabled && scene.freeze.output_interval > 0 && scene.t_end / scene.freeze.output_interval > max_frames)
-    root["freeze"]["output_interval"].fail(
-        format("t_end / freeze.output_interval = %g s / %g s = %.3g frames, more than the limit of %.0e; give at least %g s",
-               scene.t_end, scene.freeze.output_interval, scene.t_end / scene.freeze.output_interval, max_frames,
-               scene.t_end / max_frames));
+    root["freeze"]["output_interval"].fail(frame_count("freeze.output_interval", scene.freeze.output_interval) +
+                                           format("; give at least %g s", scene.t_end / max_frames));
 }
 
 // The run's own checks and its early stop.
