@@ -253,7 +253,11 @@ void StabilityGuard::fail(double t, const double* y, const std::string& what, bo
     // A step already within the recommendation is not what failed: "recommends dt <= 7.2e117 s"
     // was the advice to a run of dt 1e-5 whose discs, of Young's modulus 1e-300, passed through
     // each other (issue 28's review).
-    if (est.recommended_dt >= dt_) {
+    // Explicit conduction beyond its limit is a cause the recommendation does not cover (its dense
+    // packing's limit too: contacts that formed since the start).
+    const double reach = real_stability_of(est.integrator) / 2;
+    const double conduction = reach * est.thermal_dt_limit_network, packed = reach * est.thermal_dt_limit;
+    if (est.recommended_dt >= dt_ && !(dt_ >= conduction) && !(dt_ >= packed)) {
       s << "this dt is within what the stability estimate recommends (" << est.recommended_dt << " s; "
         << describe_limit(est) << "), so the step is not the cause: an overlap that grows at a resolved step "
         << "means contacts too soft for the loads on them (raise the stiffness or Young's modulus), a speed that "
@@ -264,8 +268,9 @@ void StabilityGuard::fail(double t, const double* y, const std::string& what, bo
       << (est.recommended_dt < est.contact_duration / 50 ? " s (the stability limit; contact duration "
                                                           : " s (contact duration ")
       << est.contact_duration << " s / 50, " << est.shortest_pair << "; " << describe_limit(est);
-    const double conduction = real_stability_of(est.integrator) / 2 * est.thermal_dt_limit_network;
     if (std::isfinite(conduction)) s << "; explicit conduction limit " << conduction << " s on the network at t = 0";
+    if (std::isfinite(packed) && !(packed >= dt_))
+      s << "; explicit conduction limit " << packed << " s on a dense packing at 1 % overlap, below this dt";
     s << ")";
     if (est.dt_limit > dt_ && est.dt_limit == estimate_.dt_limit && !now)
       s << "; the state at this failure is not finite, so the limit is the start's, above this dt: a contact network "

@@ -132,6 +132,9 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
   std::vector<StudyRun> reference_members;  // chaotic: the reference's members, grown with the probes'
   Members ensemble_members(o.scene, o.sets);
   StudyRun reference_point("", 0);
+  double finest = INFINITY;  // the probe's finest step: every reference takes as long as a run of it
+  for (const Candidate& c : candidates) finest = std::min(finest, c.first / std::pow(2.0, o.halvings));
+  refuse_too_many_steps(base, finest, t_end, o.heat_stage, "the probe's finest step");
   if (chaotic) {
     const auto best = std::max_element(candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
       return nominal_order(a.name) < nominal_order(b.name);
@@ -146,8 +149,6 @@ nlohmann::json run_recommend(const RecommendOptions& o) {
     reference = *exact;
     reference_json = {{"kind", "analytic"}};
   } else {
-    double finest = INFINITY;
-    for (const Candidate& c : candidates) finest = std::min(finest, c.first / std::pow(2.0, o.halvings));
     const StudyReference ref =
         study_reference(base, o.scene, o.sets, o.quantity, t_end, "fine", finest, o.fine_rtol, o.heat_stage);
     reference = ref.value;

@@ -63,6 +63,10 @@ void check_quantity(const Scene& scene, const std::string& quantity);
 // tolerance, whose own error is about ten times smaller where the error follows the tolerance
 // (and round-off where neither can go lower). Fails with the registered solutions when there is
 // none.
+// Throws InputError, beginning with `what`, when t_end / dt steps exceed kiln run's step-count
+// limit (its moving steps, or the heating's with `heat_stage`).
+void refuse_too_many_steps(const Scene& base, double dt, double t_end, bool heat_stage, const std::string& what);
+
 struct StudyReference {
   std::vector<double> value;
   double accuracy = 0;  // max abs over the components; 0: exact

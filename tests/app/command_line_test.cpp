@@ -117,3 +117,20 @@ TEST_CASE("a study's tolerances below 1e-14 or from 1 up are refused before its 
   CHECK(has(out.output, "--rtols: must be a relative tolerance in [1e-14, 1)"));
   CHECK_FALSE(std::filesystem::exists(dir / "wp"));
 }
+
+TEST_CASE("order and recommend refuse a t_end beyond the step-count limit before computing their reference",
+          "[errors]") {
+  const auto dir = kiln::testing::fresh_dir("command_line_study_t_end");
+  std::filesystem::create_directories(dir);
+  // Issue 28's last review: the exact solution was computed a bounce at a time for 1e10 s, silently
+  // for ever, before the study's runs were refused.
+  const std::string pair = kiln::testing::case_path("harmonic_contact_pair.yaml");
+  const auto order = kiln::testing::run_kiln_command(
+      "order " + pair + " --integrators velocity-verlet --dt 1e-4 --levels 3 --t-end 1e10 --quiet", dir / "log");
+  CHECK(order.status == 2);
+  CHECK(has(order.output, "the study's finest step: t_end / dt = 1e+10 s"));
+  const auto recommend = kiln::testing::run_kiln_command(
+      "recommend " + pair + " --quantity position --tolerance 1e-3 --t-end 1e300 --quiet", dir / "log2");
+  CHECK(recommend.status == 2);
+  CHECK(has(recommend.output, "the probe's finest step"));
+}
